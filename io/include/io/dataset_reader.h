@@ -1,0 +1,79 @@
+#pragma once
+/// @file dataset_reader.h
+/// @brief Streams an EuRoC/ASL folder (DESIGN §4) as one time-ordered sequence of typed
+/// measurements, without loading images into memory.
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/errors.h"
+#include "vio_core/calibration.h"
+#include "vio_core/measurements.h"
+
+namespace vid::io {
+
+/// @brief Anything that yields measurements in timestamp order (folders, LCM, simulator).
+class MeasurementSource {
+ public:
+  virtual ~MeasurementSource() = default;
+  /// @brief Next measurement in time order, or std::nullopt at the end.
+  virtual std::optional<Measurement> next() = 0;
+};
+
+/// @brief How the reader treats imperfect input.
+struct ReaderOptions {
+  bool drop_bad_timestamps = false;   ///< drop non-monotonic/duplicate rows (counted) instead of throwing
+  bool skip_missing_images = false;   ///< skip images listed but absent (counted) instead of throwing
+  bool read_images = true;            ///< emit ImageFrame from camN/data.csv
+  bool read_features = true;          ///< emit FeatureFrame from feat0/data.csv
+  bool read_groundtruth = true;       ///< emit GroundTruthSample, ForceSample, MassSample
+};
+
+/// @brief Calibration found in the folder's sensor.yaml / vehicle.yaml files.
+struct DatasetCalibration {
+  std::vector<CameraCalib> cameras;     ///< cam0, cam1, ... (sorted by id)
+  std::optional<ImuNoise> imu;          ///< imu0/sensor.yaml
+  std::optional<RotorSensor> rotor;     ///< rotor0/sensor.yaml
+  std::optional<VehicleParams> vehicle; ///< vehicle.yaml
+};
+
+/// @brief Per-stream statistics (for the dataset summary and run summaries).
+struct StreamStats {
+  std::string name;           ///< "imu0", "cam0", "feat0", ...
+  std::size_t count = 0;      ///< rows (feat0: frames)
+  TimeNs first_ns = 0;
+  TimeNs last_ns = 0;
+  TimeNs largest_gap_ns = 0;
+  TimeNs largest_gap_at_ns = 0;
+  std::size_t dropped = 0;    ///< rows dropped under ReaderOptions
+};
+
+/// @brief Reader of a dataset folder (SEQ or SEQ/mav0). Throws DatasetError / ConfigError.
+class DatasetReader : public MeasurementSource {
+ public:
+  DatasetReader(const std::filesystem::path& root, ReaderOptions options = {});
+  ~DatasetReader() override;
+  DatasetReader(const DatasetReader&) = delete;
+  DatasetReader& operator=(const DatasetReader&) = delete;
+
+  std::optional<Measurement> next() override;
+
+  /// @brief The folder that holds imu0/, cam0/, ... (the mav0 folder).
+  const std::filesystem::path& mav0() const;
+  const DatasetCalibration& calibration() const;
+  /// @brief Which streams exist ("imu0", "cam0", "cam1", "feat0", "rotor0", "thrust0",
+  /// "force0", "mass0", "state_groundtruth_estimate0").
+  bool has_stream(const std::string& name) const;
+  /// @brief Statistics so far (complete after next() returned nullopt).
+  std::vector<StreamStats> stats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vid::io

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Installs every dependency of VID-MSCKF on Debian 12 (run as root) and creates .venv.
+# Idempotent: a second run checks, finds everything present, and changes nothing.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+
+APT_PKGS=(
+  build-essential cmake ninja-build pkg-config git
+  libeigen3-dev libopencv-dev libceres-dev libsuitesparse-dev libyaml-cpp-dev
+  liblcm-dev liblcm-bin libcli11-dev libspdlog-dev libfmt-dev
+  libgtest-dev libgmock-dev googletest libbenchmark-dev
+  python3 python3-venv python3-dev
+)
+
+missing=()
+for p in "${APT_PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "[setup] installing apt packages: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "[setup] apt packages present"
+fi
+
+VENV="$ROOT/.venv"
+PY=python3
+if [[ ! -x "$VENV/bin/python" ]]; then
+  echo "[setup] creating $VENV"
+  # Prefer the distribution's python (matches python3-dev); fall back to PATH python3.
+  if [[ -x /usr/bin/python3 ]]; then PY=/usr/bin/python3; fi
+  "$PY" -m venv "$VENV"
+fi
+STAMP="$VENV/.vid_setup_stamp"
+REQ_HASH="$(cat "$ROOT/eval/pyproject.toml" "$ROOT/scripts/setup.sh" | sha256sum | cut -d' ' -f1)"
+if [[ ! -f "$STAMP" || "$(cat "$STAMP")" != "$REQ_HASH" ]]; then
+  echo "[setup] installing python packages into .venv"
+  "$VENV/bin/pip" install -q --upgrade pip
+  "$VENV/bin/pip" install -q -e "$ROOT/eval[test]"
+  echo "$REQ_HASH" > "$STAMP"
+else
+  echo "[setup] python venv up to date"
+fi
+echo "[setup] done"

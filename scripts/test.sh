@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# The README's test command: install dependencies, build, run every C++ and Python test.
+# The closing lines are CTest's and pytest's summaries.
+set -uo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD="${VID_BUILD_DIR:-$ROOT/build}"
+bash "$ROOT/scripts/setup.sh" || exit 1
+bash "$ROOT/scripts/build.sh" || exit 1
+export VID_BUILD_DIR="$BUILD"
+ctest --test-dir "$BUILD" -j"${VID_JOBS:-2}" --output-on-failure --timeout 1200
+ctest_rc=$?
+"$ROOT/.venv/bin/python" -m pytest "$ROOT/tests/python" -q -p no:cacheprovider
+pytest_rc=$?
+echo "ctest exit ${ctest_rc}, pytest exit ${pytest_rc}"
+[[ $ctest_rc -eq 0 && $pytest_rc -eq 0 ]]

@@ -1,0 +1,55 @@
+#pragma once
+/// @file calibration.h
+/// @brief Sensor calibration and vehicle parameters shared by io, sim, frontend and the
+/// estimator. Plain data, Eigen only; loading/validation lives in io.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+namespace vid {
+
+/// @brief Distortion models (Kalibr names: radtan, equidistant).
+enum class DistortionModel { kNone, kRadTan, kEquidistant };
+
+/// @brief One camera: intrinsics, distortion and pose in the IMU frame.
+struct CameraCalib {
+  int cam_id = 0;
+  int width = 640;
+  int height = 480;
+  Eigen::Vector4d intrinsics{400.0, 400.0, 320.0, 240.0};  ///< fu, fv, cu, cv
+  DistortionModel distortion = DistortionModel::kRadTan;
+  /// radtan: k1, k2, p1, p2; equidistant: k1, k2, k3, k4
+  Eigen::Vector4d distortion_coeffs = Eigen::Vector4d::Zero();
+  Eigen::Isometry3d T_IC = Eigen::Isometry3d::Identity();  ///< pose of camera C in I
+  double timeshift_cam_imu_s = 0.0;  ///< t_imu = t_cam + timeshift (Kalibr)
+  double rate_hz = 30.0;
+};
+
+/// @brief IMU noise, Kalibr/EuRoC continuous-time parameters.
+struct ImuNoise {
+  double gyro_noise_density = 1.6968e-4;      ///< rad/s/sqrt(Hz)
+  double gyro_random_walk = 1.9393e-5;        ///< rad/s^2/sqrt(Hz)
+  double accel_noise_density = 2.0e-3;        ///< m/s^2/sqrt(Hz)
+  double accel_random_walk = 3.0e-3;          ///< m/s^3/sqrt(Hz)
+  double rate_hz = 200.0;
+  Eigen::Isometry3d T_BS = Eigen::Isometry3d::Identity();  ///< IMU in body (identity here)
+};
+
+/// @brief Rotor speed sensor (rotor0/sensor.yaml).
+struct RotorSensor {
+  std::string unit = "rpm";  ///< "rpm" or "rad/s"
+  int count = 4;
+  double rate_hz = 100.0;
+  double noise_density = 1.459;  ///< unit / sqrt(Hz)
+};
+
+/// @brief Vehicle parameters (vehicle.yaml).
+struct VehicleParams {
+  double mass_kg = 1.0;
+  double gravity = 9.81;
+  std::vector<double> rotor_thrust_coefficients;  ///< k_i [N / unit^2], T_i = k_i n_i^2
+};
+
+}  // namespace vid
