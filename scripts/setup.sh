@@ -7,7 +7,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 APT_PKGS=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev libopencv-dev libceres-dev libsuitesparse-dev libyaml-cpp-dev
-  liblcm-dev liblcm-bin libcli11-dev libspdlog-dev libfmt-dev
+  liblcm-dev liblcm-bin libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   python3 python3-venv python3-dev
 )
