@@ -1,0 +1,89 @@
+#pragma once
+/// @file estimator_params.h
+/// @brief Every estimator setting with its default. Plain data (loaded by io's strict YAML
+/// loader; field names are the YAML keys).
+
+#include <string>
+
+namespace vid {
+
+/// @brief What drives the propagation (DESIGN §1).
+enum class PropagationMode {
+  kImu,       ///< accelerometer + gyro drive propagation (classic VIO)
+  kDynamics,  ///< gyro + thrust drive propagation; accelerometer is a measurement
+};
+
+/// @brief How the filter state is initialised.
+enum class InitMode {
+  kStatic,       ///< gravity-aligned from averaged accelerometer over a still/hover window
+  kGroundTruth,  ///< from the first ground-truth sample (evaluation only)
+};
+
+/// @brief "imu" / "dynamics".
+std::string to_string(PropagationMode mode);
+/// @brief Parse "imu" / "dynamics"; throws std::invalid_argument naming the value.
+PropagationMode mode_from_string(const std::string& s);
+/// @brief "static" / "groundtruth".
+std::string to_string(InitMode mode);
+/// @brief Parse "static" / "groundtruth"; throws std::invalid_argument naming the value.
+InitMode init_mode_from_string(const std::string& s);
+
+/// @brief All estimator settings. Units SI; noise densities are continuous-time.
+struct EstimatorParams {
+  // --- mode and window ---
+  PropagationMode mode = PropagationMode::kDynamics;
+  int window_size = 11;         ///< number of stochastic clones kept (max clones)
+  bool use_fej = true;          ///< first-estimates Jacobians for observability consistency
+  double gravity = 9.81;        ///< magnitude [m/s^2], g_W = [0, 0, -gravity]
+
+  // --- IMU noise (Kalibr/EuRoC continuous-time) ---
+  double gyro_noise_density = 1.0e-3;    ///< rad/s/sqrt(Hz)
+  double gyro_random_walk = 3.5e-5;      ///< rad/s^2/sqrt(Hz)
+  double accel_noise_density = 0.1;      ///< m/s^2/sqrt(Hz)
+  double accel_random_walk = 4.0e-3;     ///< m/s^3/sqrt(Hz)
+  double imu_rate_hz = 400.0;            ///< nominal rate, used to discretize the accel measurement noise
+
+  // --- dynamics model ---
+  double thrust_noise_density = 0.05;    ///< mass-normalized thrust noise [m/s^2/sqrt(Hz)]
+  double force_random_walk = 1.0;        ///< F_ext random walk [m/s^3/sqrt(Hz)]
+  double rotor_gap_s = 0.05;             ///< no rotor sample for longer -> hold last thrust
+  double rotor_gap_noise_scale = 10.0;   ///< thrust noise multiplier while holding
+
+  // --- IMU gaps ---
+  double imu_gap_s = 0.05;               ///< larger step -> hold last sample, inflate noise
+  double imu_gap_noise_scale = 10.0;     ///< gyro/accel/thrust noise multiplier over a gap
+
+  // --- accelerometer update (dynamics mode) ---
+  bool accel_update = true;              ///< update with every accelerometer sample
+  bool accel_chi2_gating = true;
+  double accel_chi2_multiplier = 1.0;    ///< multiplies the 99% chi2(3) threshold
+
+  // --- visual update ---
+  bool visual_update = true;
+  double pixel_noise_px = 1.0;           ///< observation noise [px] (divided by focal length)
+  double chi2_multiplier = 1.0;          ///< multiplies the 95% chi2 threshold per feature
+  int min_track_length = 3;              ///< observations needed to use a feature
+  int max_features_per_update = 60;      ///< cap per camera frame (0 = no cap)
+  bool use_stereo = true;
+
+  // --- initialization ---
+  InitMode init_mode = InitMode::kStatic;
+  double init_window_s = 0.5;            ///< averaging window for static/hover init
+  double init_accel_std_max = 0.3;       ///< accel std over the window above this -> moving
+  double init_gyro_std_max = 0.05;       ///< gyro std over the window [rad/s]
+  double init_gravity_tolerance = 0.5;   ///< | |a_mean| - g | must stay below [m/s^2]
+  double init_freefall_thrust_ratio = 0.3;  ///< T/m below ratio*g with |a| small -> free fall
+  double init_sigma_roll_pitch = 0.02;   ///< [rad]
+  double init_sigma_yaw = 1e-4;          ///< [rad] (yaw is unobservable: fixed gauge)
+  double init_sigma_position = 1e-4;     ///< [m]  (position is unobservable: fixed gauge)
+  double init_sigma_velocity = 0.05;     ///< [m/s]
+  double init_sigma_gyro_bias = 0.01;    ///< [rad/s]
+  double init_sigma_accel_bias = 0.1;    ///< [m/s^2]
+  double init_sigma_force = 0.5;         ///< [m/s^2]
+
+  // --- divergence detection ---
+  double max_velocity = 50.0;            ///< |v| above this [m/s] -> diverged
+  double max_position_sigma = 100.0;     ///< 1-sigma position above this [m] -> diverged
+};
+
+}  // namespace vid

@@ -1,0 +1,29 @@
+/// @file estimator_params.cpp
+/// @brief String conversion of the estimator enums.
+#include "vio_core/estimator_params.h"
+
+#include <stdexcept>
+
+namespace vid {
+
+std::string to_string(PropagationMode mode) {
+  return mode == PropagationMode::kImu ? "imu" : "dynamics";
+}
+
+PropagationMode mode_from_string(const std::string& s) {
+  if (s == "imu") return PropagationMode::kImu;
+  if (s == "dynamics") return PropagationMode::kDynamics;
+  throw std::invalid_argument("unknown propagation mode '" + s + "' (expected imu or dynamics)");
+}
+
+std::string to_string(InitMode mode) {
+  return mode == InitMode::kStatic ? "static" : "groundtruth";
+}
+
+InitMode init_mode_from_string(const std::string& s) {
+  if (s == "static") return InitMode::kStatic;
+  if (s == "groundtruth") return InitMode::kGroundTruth;
+  throw std::invalid_argument("unknown init mode '" + s + "' (expected static or groundtruth)");
+}
+
+}  // namespace vid
