@@ -1,0 +1,67 @@
+"""Options and helpers shared by the sub-commands (pairing flags, JSON output)."""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+from typing import Any, Dict
+
+from ..pairing import PairingOptions
+
+
+def add_pairing_args(p: argparse.ArgumentParser) -> None:
+    """--max-diff, --offset, --interpolate, --max-gap."""
+    g = p.add_argument_group("time association")
+    g.add_argument("--max-diff", type=float, default=0.01, metavar="S",
+                   help="nearest-timestamp tolerance [s] (default 0.01, as evo)")
+    g.add_argument("--offset", type=float, default=0.0, metavar="S",
+                   help="time offset [s] added to the estimate's timestamps (t_est + offset = t_gt)")
+    g.add_argument("--interpolate", action="store_true",
+                   help="interpolate the ground truth at estimate times (linear / SLERP) "
+                        "instead of nearest matching")
+    g.add_argument("--max-gap", type=float, default=None, metavar="S",
+                   help="with --interpolate: skip estimate times inside ground-truth gaps longer than S")
+
+
+def add_output_args(p: argparse.ArgumentParser) -> None:
+    """--json, --plot, --method, --sequence."""
+    g = p.add_argument_group("output")
+    g.add_argument("--json", metavar="OUT", help="write the results as JSON to OUT")
+    g.add_argument("--plot", metavar="DIR", help="write PNG plots into DIR")
+    g.add_argument("--method", help="method name stored in the JSON (for `vid-eval report`)")
+    g.add_argument("--sequence", help="sequence name stored in the JSON (for `vid-eval report`)")
+
+
+def seconds_to_ns(s: float) -> int:
+    """Seconds -> int nanoseconds (rounded)."""
+    return int(round(float(s) * 1e9))
+
+
+def pairing_from_args(args: argparse.Namespace, min_pairs: int = 2) -> PairingOptions:
+    """Build :class:`PairingOptions` from the parsed flags."""
+    return PairingOptions(
+        mode="interpolate" if args.interpolate else "nearest",
+        max_diff_ns=seconds_to_ns(args.max_diff),
+        offset_ns=seconds_to_ns(args.offset),
+        max_gap_ns=None if args.max_gap is None else seconds_to_ns(args.max_gap),
+        min_pairs=min_pairs,
+    )
+
+
+def finish(args: argparse.Namespace, result: Dict[str, Any]) -> None:
+    """Add run names and write the JSON when asked."""
+    if getattr(args, "method", None):
+        result["method"] = args.method
+    if getattr(args, "sequence", None):
+        result["sequence"] = args.sequence
+    if args.json:
+        out = Path(args.json)
+        if out.parent and not out.parent.exists():
+            out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
+
+
+def abspath(p: str) -> str:
+    """Absolute path string for the JSON records."""
+    return os.path.abspath(p)

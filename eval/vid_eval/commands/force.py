@@ -1,0 +1,136 @@
+"""``vid-eval force EST GT``: external-force RMSE per axis and of the norm, JSON and plot."""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Optional, Tuple
+
+import numpy as np
+
+from ..errors import ConfigurationError, InputFormatError
+from ..force_frames import Mass, mass_at, newton_to_accel, rotate_series
+from ..force_metrics import force_errors
+from ..loaders import (find_mass_source, load_force_estimate, load_force_gt, load_mass,
+                       load_state, load_trajectory, load_vehicle_mass)
+from ..pairing import pair_vectors
+from ..series import Trajectory, VectorSeries
+from .common import abspath, add_output_args, add_pairing_args, finish, pairing_from_args
+
+
+def add_parser(sub) -> None:
+    """Register the ``force`` sub-command."""
+    p = sub.add_parser("force", help="external-force errors against force0 ground truth",
+                       description="RMSE per axis and of the error norm of the mass-normalized "
+                                   "external force [m/s^2] (and [N] when the mass is known).")
+    p.add_argument("est", help="our force.csv or state.csv")
+    p.add_argument("gt", help="ground-truth force CSV (force0/data.csv: world frame, N)")
+    p.add_argument("--frame", choices=("world", "body"), default="world",
+                   help="frame of the comparison (default world)")
+    p.add_argument("--est-format", choices=("force", "state"), default=None,
+                   help="EST is force.csv or state.csv (default: detect by column count)")
+    p.add_argument("--mass", type=float, default=None, metavar="KG",
+                   help="vehicle mass; default: mav0/mass0/data.csv, else vehicle.yaml next to GT")
+    p.add_argument("--mass-file", default=None, metavar="CSV|YAML",
+                   help="mass0-style CSV or vehicle.yaml to take the mass from")
+    p.add_argument("--gt-frame", choices=("world", "body"), default="world",
+                   help="frame of GT (default world, as force0)")
+    p.add_argument("--gt-unit", choices=("N", "m/s^2"), default="N",
+                   help="unit of GT (default N, as force0)")
+    p.add_argument("--state", default=None, metavar="STATE_CSV",
+                   help="our state.csv: estimated q_WI for frame changes and the world 3-sigma band")
+    p.add_argument("--gt-state", default=None, metavar="POSES",
+                   help="ground-truth poses (EuRoC CSV / TUM) to rotate GT between frames")
+    add_pairing_args(p)
+    add_output_args(p)
+    p.set_defaults(run=run)
+
+
+def _detect_est_format(path: str) -> str:
+    with open(path, "r", encoding="utf-8") as fh:
+        for raw in fh:
+            t = raw.strip()
+            if t and not t.startswith("#"):
+                return "state" if len(t.split(",")) > 20 else "force"
+    raise InputFormatError(path, "no data rows (empty file)")
+
+
+def _resolve_mass(args: argparse.Namespace) -> Tuple[Optional[Mass], str]:
+    """Mass from --mass, --mass-file, or next to the ground truth; (None, '') when absent."""
+    if args.mass is not None:
+        if not args.mass > 0:
+            raise ConfigurationError(f"--mass must be positive, got {args.mass}")
+        return float(args.mass), "--mass"
+    src = Path(args.mass_file) if args.mass_file else find_mass_source(args.gt)
+    if src is None:
+        return None, ""
+    if src.suffix in (".yaml", ".yml"):
+        return load_vehicle_mass(src), str(src)
+    return load_mass(src), str(src)
+
+
+def _load_estimate(args) -> Tuple[VectorSeries, Optional[VectorSeries], Optional[Trajectory]]:
+    fmt = args.est_format or _detect_est_format(args.est)
+    orient = load_state(args.state).trajectory() if args.state else None
+    if fmt == "state":
+        st = load_state(args.est)
+        return st.force_body(), None, orient or st.trajectory()
+    body, world = load_force_estimate(args.est)
+    return body, world, orient
+
+
+def _estimate_in(frame: str, body: VectorSeries, world: Optional[VectorSeries],
+                 orient: Optional[Trajectory]) -> VectorSeries:
+    """The estimate in ``frame``; world values come from force.csv's fw columns when present,
+    the world 3-sigma band from rotating the body sigma with the estimated orientation."""
+    if frame == "body":
+        return body
+    if world is None:
+        if orient is None:
+            raise ConfigurationError("EST has only body-frame force: give --state for the world frame")
+        return rotate_series(body, orient, "world")
+    if orient is None:
+        return world
+    rot = rotate_series(body, orient, "world")
+    idx = np.searchsorted(world.t_ns, rot.t_ns)
+    return VectorSeries(rot.t_ns, world.values[idx], "world", "m/s^2", rot.sigma, world.source)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Compute, print, write JSON/plot."""
+    body, world, orient_est = _load_estimate(args)
+    gt = load_force_gt(args.gt)
+    gt.frame = args.gt_frame
+    gt.unit = args.gt_unit
+    mass, mass_src = _resolve_mass(args)
+    if gt.unit == "N":
+        if mass is None:
+            raise ConfigurationError(
+                f"{args.gt}: ground truth is in N but no mass found: give --mass KG "
+                f"(or mav0/mass0/data.csv or vehicle.yaml next to the dataset)")
+        gt = newton_to_accel(gt, mass)
+    est = _estimate_in(args.frame, body, world, orient_est)
+    if gt.frame != args.frame:
+        orient_gt = load_trajectory(args.gt_state) if args.gt_state else orient_est
+        if orient_gt is None:
+            raise ConfigurationError(
+                f"ground truth is in the {gt.frame} frame: give --gt-state (ground-truth poses) "
+                f"or --state to rotate it into the {args.frame} frame")
+        gt = rotate_series(gt, orient_gt, args.frame)
+    pe, pg = pair_vectors(est, gt, pairing_from_args(args))
+    m = None if mass is None else mass_at(mass, pg.t_ns)
+    res = force_errors(pe, pg, m)
+    out = {"command": "force", "est": abspath(args.est), "gt": abspath(args.gt),
+           "mass_source": mass_src or None, "force": res.as_dict(),
+           f"force_rmse_{args.frame}_mps2": res.rmse_norm}
+    ax = res.rmse_axis
+    line = (f"pairs {len(res.err)}  frame {args.frame}  RMSE x {ax[0]:.4f} y {ax[1]:.4f} "
+            f"z {ax[2]:.4f} norm {res.rmse_norm:.4f} m/s^2")
+    if m is not None:
+        line += f"  norm {out['force']['rmse_N']['norm']:.4f} N"
+    print(line)
+    if args.plot:
+        from ..plots.force import plot_force
+
+        plot_force(res, args.plot, f"force_{args.frame}.png")
+    finish(args, out)
+    return 0

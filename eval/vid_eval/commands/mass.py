@@ -1,0 +1,43 @@
+"""``vid-eval mass EST GT``: RMSPE (seed eq. 48) and RMSE of a mass estimate, JSON and plot."""
+from __future__ import annotations
+
+import argparse
+
+from ..loaders import load_mass
+from ..mass_metrics import MassResult
+from ..pairing import pair_scalars
+from .common import abspath, add_output_args, add_pairing_args, finish, pairing_from_args
+
+
+def add_parser(sub) -> None:
+    """Register the ``mass`` sub-command."""
+    p = sub.add_parser("mass", help="mass-identification errors (RMSPE, RMSE)",
+                       description="RMSPE = sqrt(mean(((m_hat - m)/m)^2)) * 100 % (seed eq. 48) "
+                                   "and RMSE [kg] of a mass estimate against ground truth.")
+    p.add_argument("est", help="mass estimate CSV: timestamp [ns], mass [kg] [, sigma [kg]]")
+    p.add_argument("gt", help="ground-truth mass CSV (mass0/data.csv)")
+    p.add_argument("--skip", type=float, default=0.0, metavar="S",
+                   help="ignore the first S seconds of the estimate (convergence)")
+    add_pairing_args(p)
+    add_output_args(p)
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Compute, print, write JSON/plot."""
+    est = load_mass(args.est)
+    gt = load_mass(args.gt)
+    if args.skip > 0:
+        keep = est.t_ns >= est.t_ns[0] + int(round(args.skip * 1e9))
+        est = est.subset(keep.nonzero()[0])
+    pe, pg = pair_scalars(est, gt, pairing_from_args(args, min_pairs=1))
+    res = MassResult(pe, pg)
+    out = {"command": "mass", "est": abspath(args.est), "gt": abspath(args.gt),
+           "mass_rmspe_percent": res.rmspe, "mass_rmse_kg": res.rmse, "mass": res.as_dict()}
+    print(f"pairs {len(pe)}  RMSPE {res.rmspe:.3f} %  RMSE {res.rmse:.5f} kg")
+    if args.plot:
+        from ..plots.mass import plot_mass
+
+        plot_mass(res, args.plot)
+    finish(args, out)
+    return 0

@@ -1,0 +1,167 @@
+"""Loaders of every file format the evaluation reads (DESIGN §4 and §5, TUM, EuRoC).
+
+Each loader returns a typed series from :mod:`vid_eval.series` or raises
+:class:`~vid_eval.errors.InputFormatError` naming file and line.
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Optional
+
+import numpy as np
+import yaml
+
+from . import formats
+from .errors import InputFormatError, PathLike
+from .series import ScalarSeries, StateSeries, Trajectory, VectorSeries
+from .table_reader import Table, read_table
+
+TRAJ_FORMATS = ("tum", "euroc", "state")
+
+
+def _quaternions(table: Table, q_wxyz: np.ndarray) -> np.ndarray:
+    """Normalize quaternions; a (near) zero quaternion is an input error."""
+    norms = np.linalg.norm(q_wxyz, axis=1)
+    bad = np.flatnonzero(norms < 1e-6)
+    if bad.size:
+        raise InputFormatError(table.path, "quaternion has zero norm", int(table.lines[bad[0]]))
+    return q_wxyz / norms[:, None]
+
+
+def load_tum(path: PathLike) -> Trajectory:
+    """TUM file ``timestamp[s] tx ty tz qx qy qz qw`` (whitespace separated)."""
+    tab = read_table(path, {formats.TUM_COLUMNS}, delimiter=None, time_in_seconds=True,
+                     what="TUM trajectory")
+    v = tab.values
+    q = _quaternions(tab, v[:, [6, 3, 4, 5]])
+    return Trajectory(tab.t_ns, v[:, 0:3].copy(), q, tab.path)
+
+
+def load_euroc_pose_csv(path: PathLike) -> Trajectory:
+    """EuRoC ``state_groundtruth_estimate0/data.csv`` (17 columns) or a plain ASL pose CSV
+    (``timestamp [ns], p_x, p_y, p_z, q_w, q_x, q_y, q_z``); extra columns are ignored."""
+    tab = read_table(path, range(formats.EUROC_GT_MIN_COLUMNS, 200), what="EuRoC pose CSV")
+    v = tab.values
+    q = _quaternions(tab, v[:, 3:7])
+    return Trajectory(tab.t_ns, v[:, 0:3].copy(), q, tab.path)
+
+
+def load_state(path: PathLike) -> StateSeries:
+    """Our ``state.csv`` (DESIGN §5, columns in :data:`vid_eval.formats.STATE_COLUMNS`)."""
+    names = [n for n, _ in formats.STATE_COLUMNS]
+    tab = read_table(path, {len(names)}, expected_names=names, what="state.csv")
+    v = tab.values
+    idx = {n: formats.column_index(formats.STATE_COLUMNS, n) - 1 for n in names[1:]}
+
+    def cols(prefix: str) -> np.ndarray:
+        return v[:, [idx[f"{prefix}_{a}"] for a in "xyz"]].copy()
+
+    q = _quaternions(tab, v[:, [idx["q_w"], idx["q_x"], idx["q_y"], idx["q_z"]]])
+    sigma = {k: cols(f"sigma_{k}") for k in ("theta", "p", "v", "bg", "ba", "f")}
+    return StateSeries(tab.t_ns, cols("p"), q, cols("v"), cols("bg"), cols("ba"), cols("f"),
+                       sigma, tab.path)
+
+
+def load_trajectory(path: PathLike, fmt: Optional[str] = None) -> Trajectory:
+    """Load a trajectory in ``tum``, ``euroc`` (EuRoC/ASL CSV) or ``state`` format;
+    ``fmt=None`` detects it (see :func:`detect_trajectory_format`)."""
+    fmt = fmt or detect_trajectory_format(path)
+    if fmt == "tum":
+        return load_tum(path)
+    if fmt == "euroc":
+        return load_euroc_pose_csv(path)
+    if fmt == "state":
+        return load_state(path).trajectory()
+    raise ValueError(f"unknown trajectory format '{fmt}' (choose from {', '.join(TRAJ_FORMATS)})")
+
+
+def detect_trajectory_format(path: PathLike) -> str:
+    """Guess the format from the first data line: whitespace -> tum; a header naming the
+    state.csv columns -> state; otherwise comma separated -> euroc."""
+    spath = os.fspath(path)
+    if not os.path.isfile(spath):
+        raise InputFormatError(spath, "no such trajectory file")
+    header = None
+    with open(spath, "r", encoding="utf-8") as handle:
+        for raw in handle:
+            text = raw.strip()
+            if not text:
+                continue
+            if text.startswith("#"):
+                header = header or text
+                continue
+            if "," not in text:
+                return "tum"
+            break
+    if header is not None and formats.header_names(header)[:2] == ["timestamp", "p_x"] and \
+            "sigma_f_x" in formats.header_names(header):
+        return "state"
+    if header is None and spath.endswith(".txt"):
+        return "tum"
+    return "euroc"
+
+
+def load_force_estimate(path: PathLike) -> tuple[VectorSeries, VectorSeries]:
+    """Our ``force.csv``: returns (body series with sigma, world series without sigma),
+    both in m/s^2."""
+    names = [n for n, _ in formats.FORCE_COLUMNS]
+    tab = read_table(path, {len(names)}, expected_names=names, what="force.csv")
+    v = tab.values
+    body = VectorSeries(tab.t_ns, v[:, 0:3].copy(), "body", "m/s^2", v[:, 6:9].copy(), tab.path)
+    world = VectorSeries(tab.t_ns, v[:, 3:6].copy(), "world", "m/s^2", None, tab.path)
+    return body, world
+
+
+def load_force_gt(path: PathLike) -> VectorSeries:
+    """Ground-truth ``force0/data.csv``: world frame, Newton."""
+    tab = read_table(path, {len(formats.FORCE0_COLUMNS)}, what="force0 CSV")
+    return VectorSeries(tab.t_ns, tab.values.copy(), "world", "N", None, tab.path)
+
+
+def load_mass(path: PathLike) -> ScalarSeries:
+    """``mass0/data.csv`` (``timestamp [ns], mass [kg]``) or a mass estimate with an optional
+    third column ``sigma [kg]``."""
+    tab = read_table(path, {2, 3}, what="mass CSV")
+    v = tab.values
+    bad = np.flatnonzero(v[:, 0] <= 0.0)
+    if bad.size:
+        raise InputFormatError(tab.path, "mass must be positive", int(tab.lines[bad[0]]))
+    sigma = v[:, 1].copy() if v.shape[1] == 2 else None
+    return ScalarSeries(tab.t_ns, v[:, 0].copy(), sigma, tab.path)
+
+
+def load_vehicle_mass(path: PathLike) -> float:
+    """``mass_kg`` of a ``vehicle.yaml`` (DESIGN §4)."""
+    spath = os.fspath(path)
+    try:
+        with open(spath, "r", encoding="utf-8") as handle:
+            text = handle.read()
+    except OSError as exc:
+        raise InputFormatError(spath, f"cannot open: {exc.strerror}") from None
+    if text.startswith("%YAML"):
+        text = text.split("\n", 1)[1] if "\n" in text else ""
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        line = getattr(getattr(exc, "problem_mark", None), "line", None)
+        raise InputFormatError(spath, "invalid YAML", None if line is None else line + 1) from None
+    if not isinstance(data, dict) or "mass_kg" not in data:
+        raise InputFormatError(spath, "key 'mass_kg' missing")
+    try:
+        mass = float(data["mass_kg"])
+    except (TypeError, ValueError):
+        raise InputFormatError(spath, "key 'mass_kg' is not a number") from None
+    if not mass > 0.0:
+        raise InputFormatError(spath, "key 'mass_kg' must be positive")
+    return mass
+
+
+def find_mass_source(force_gt_path: PathLike) -> Optional[Path]:
+    """Next to ``SEQ/mav0/force0/data.csv`` look for ``mav0/mass0/data.csv``, then
+    ``mav0/vehicle.yaml``, then ``SEQ/vehicle.yaml``; return the first that exists."""
+    mav0 = Path(force_gt_path).resolve().parent.parent
+    for cand in (mav0 / "mass0" / "data.csv", mav0 / "vehicle.yaml", mav0.parent / "vehicle.yaml"):
+        if cand.is_file():
+            return cand
+    return None

@@ -1,0 +1,1 @@
+"""PNG plots of the evaluation results (matplotlib, Agg backend, no display needed)."""

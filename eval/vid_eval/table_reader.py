@@ -1,0 +1,156 @@
+"""Strict reader for the numeric text tables of DESIGN §4/§5 (CSV and TUM whitespace files).
+
+It checks what the metrics rely on and reports the first problem with file and line:
+missing/empty file, wrong column count, a value that is not a number, timestamps that are
+not strictly increasing. Timestamps are returned as exact int64 nanoseconds.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
+from typing import Iterable, List, Optional, Sequence
+
+import numpy as np
+
+from .errors import InputFormatError, PathLike
+
+
+@dataclass
+class Table:
+    """A parsed table: exact int64 ns time column, float values of the other columns."""
+
+    path: str
+    header: Optional[str]
+    t_ns: np.ndarray  # (N,) int64
+    values: np.ndarray  # (N, C-1) float64, columns after the timestamp
+    lines: np.ndarray  # (N,) 1-based line numbers of the rows in the file
+
+
+def _parse_time(token: str, unit_seconds: bool, path: str, line: int) -> int:
+    """Parse a timestamp to int ns exactly (Decimal avoids float rounding of seconds)."""
+    try:
+        value = Decimal(token)
+    except InvalidOperation:
+        raise InputFormatError(path, f"timestamp '{token}' is not a number", line) from None
+    if not value.is_finite():
+        raise InputFormatError(path, f"timestamp '{token}' is not finite", line)
+    if unit_seconds:
+        value = value * Decimal(1_000_000_000)
+    return int(value.to_integral_value())
+
+
+def read_table(
+    path: PathLike,
+    columns: Iterable[int],
+    *,
+    delimiter: Optional[str] = ",",
+    time_in_seconds: bool = False,
+    expected_names: Optional[Sequence[str]] = None,
+    what: str = "table",
+) -> Table:
+    """Read a numeric table whose first column is a timestamp.
+
+    Args:
+        path: file to read.
+        columns: allowed column counts of a data row (e.g. ``{8}`` or ``range(8, 100)``).
+        delimiter: ``","`` for CSV, ``None`` for any whitespace (TUM).
+        time_in_seconds: the first column is seconds (TUM) instead of nanoseconds.
+        expected_names: column names the header must carry (checked only if a header exists).
+        what: name of the format, used in error messages.
+
+    Raises:
+        InputFormatError: with file and line for every malformed input.
+    """
+    spath = os.fspath(path)
+    allowed = set(columns)
+    if not os.path.isfile(spath):
+        raise InputFormatError(spath, f"no such {what} file")
+    header: Optional[str] = None
+    header_lineno = 1
+    times: List[int] = []
+    rows: List[List[float]] = []
+    lines: List[int] = []
+    try:
+        handle = open(spath, "r", encoding="utf-8")
+    except OSError as exc:
+        raise InputFormatError(spath, f"cannot open: {exc.strerror}") from None
+    with handle:
+        for lineno, raw in enumerate(handle, start=1):
+            text = raw.strip()
+            if not text:
+                continue
+            if text.startswith("#") or text.startswith("%"):
+                if header is None and not rows:
+                    header, header_lineno = text, lineno
+                continue
+            tokens = [t.strip() for t in (text.split(delimiter) if delimiter else text.split())]
+            if len(tokens) not in allowed:
+                want = _describe(allowed)
+                raise InputFormatError(
+                    spath, f"{what}: expected {want} columns, found {len(tokens)}", lineno
+                )
+            if rows and len(tokens) - 1 != len(rows[0]):
+                raise InputFormatError(
+                    spath, f"{what}: {len(tokens)} columns, earlier rows have {len(rows[0]) + 1}",
+                    lineno,
+                )
+            t = _parse_time(tokens[0], time_in_seconds, spath, lineno)
+            try:
+                vals = [float(x) for x in tokens[1:]]
+            except ValueError:
+                bad = next(x for x in tokens[1:] if not _is_float(x))
+                raise InputFormatError(spath, f"{what}: value '{bad}' is not a number", lineno) from None
+            if not all(np.isfinite(vals)):
+                raise InputFormatError(spath, f"{what}: non-finite value", lineno)
+            if times and t <= times[-1]:
+                kind = "repeated" if t == times[-1] else "decreasing"
+                raise InputFormatError(
+                    spath, f"{what}: timestamps not strictly increasing ({kind} timestamp)", lineno
+                )
+            times.append(t)
+            rows.append(vals)
+            lines.append(lineno)
+    if not rows:
+        raise InputFormatError(spath, f"{what}: no data rows (empty file)")
+    if expected_names is not None and header is not None:
+        _check_names(spath, header, header_lineno, expected_names, what)
+    return Table(
+        path=spath,
+        header=header,
+        t_ns=np.asarray(times, dtype=np.int64),
+        values=np.asarray(rows, dtype=np.float64),
+        lines=np.asarray(lines, dtype=np.int64),
+    )
+
+
+def _check_names(path: str, header: str, lineno: int, expected: Sequence[str], what: str) -> None:
+    from .formats import header_names
+
+    names = header_names(header)
+    if len(names) != len(expected):
+        raise InputFormatError(
+            path, f"{what}: header has {len(names)} columns, expected {len(expected)}", lineno
+        )
+    for i, (got, want) in enumerate(zip(names, expected)):
+        if got != want:
+            raise InputFormatError(
+                path, f"{what}: header column {i + 1} is '{got}', expected '{want}'", lineno
+            )
+
+
+def _is_float(token: str) -> bool:
+    try:
+        float(token)
+        return True
+    except ValueError:
+        return False
+
+
+def _describe(allowed: set) -> str:
+    values = sorted(allowed)
+    if len(values) == 1:
+        return str(values[0])
+    if values == list(range(values[0], values[-1] + 1)) and len(values) > 2:
+        return f"{values[0]}..{values[-1]}"
+    return " or ".join(str(v) for v in values)
