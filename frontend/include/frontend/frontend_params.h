@@ -1,0 +1,58 @@
+#pragma once
+/// @file frontend_params.h
+/// @brief Settings of the KLT frontend (plain data with defaults; loaded from YAML by the app
+/// layer, see frontend/include/frontend/frontend_params_yaml.h).
+
+namespace vid {
+
+/// @brief How temporal outliers are rejected.
+enum class RansacMode {
+  kNone,         ///< no temporal RANSAC
+  kFundamental,  ///< fundamental matrix on undistorted normalized points (8-point RANSAC)
+  kTwoPoint,     ///< translation-only epipolar model given the gyro rotation (2-point RANSAC)
+};
+
+/// @brief Image pre-processing before detection and tracking.
+enum class Equalization { kNone, kHistogram, kClahe };
+
+/// @brief All frontend settings; defaults suit 640x480 stereo at 20-30 Hz.
+struct FrontendParams {
+  // --- detection ---
+  int num_features = 150;       ///< features requested per (left) image
+  int grid_cols = 8;            ///< detection grid columns
+  int grid_rows = 6;            ///< detection grid rows
+  int fast_threshold = 20;      ///< FAST intensity threshold
+  int fast_threshold_min = 7;   ///< retry threshold for cells with no corner at fast_threshold
+  double min_distance_px = 12;  ///< minimum distance between features [px]
+  int border_px = 8;            ///< features closer to the image edge are dropped [px]
+
+  // --- pre-processing ---
+  Equalization equalization = Equalization::kNone;
+  double clahe_clip_limit = 2.0;
+  int clahe_tile = 8;           ///< CLAHE tiles per side
+
+  // --- pyramidal Lucas-Kanade ---
+  int lk_levels = 3;            ///< pyramid levels above the base image
+  int lk_window = 21;           ///< window side [px]
+  int lk_max_iterations = 30;
+  double lk_epsilon = 0.01;     ///< stop when the update is below this [px]
+  double lk_min_eigen = 1e-4;   ///< cv::calcOpticalFlowPyrLK minEigThreshold
+  double fb_check_px = 0.5;     ///< forward-backward check threshold [px]; <= 0 disables
+
+  // --- temporal outlier rejection ---
+  RansacMode ransac = RansacMode::kFundamental;
+  double ransac_threshold_px = 1.0;  ///< epipolar error threshold (converted with the focal length)
+  double ransac_confidence = 0.99;
+  int ransac_max_iterations = 200;   ///< for the 2-point model
+
+  // --- stereo ---
+  bool stereo = true;                ///< match left features into the right image when present
+  double stereo_epipolar_px = 1.5;   ///< max distance to the epipolar line [px]
+  double stereo_max_disparity_px = 200.0;  ///< larger disparities (very near points) are rejected
+  double stereo_min_depth_m = 0.1;   ///< triangulated depth must exceed this
+
+  // --- gyro prediction ---
+  bool gyro_prediction = true;       ///< predict feature positions from integrated gyro
+};
+
+}  // namespace vid

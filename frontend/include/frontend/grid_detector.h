@@ -1,0 +1,29 @@
+#pragma once
+/// @file grid_detector.h
+/// @brief Grid-based FAST detection with per-cell quotas and a minimum pixel distance to
+/// existing and to newly accepted features.
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "frontend/frontend_params.h"
+
+namespace vid {
+
+/// @brief Detects new corners spread evenly over the image.
+class GridDetector {
+ public:
+  explicit GridDetector(const FrontendParams& params) : p_(params) {}
+
+  /// @brief New corners (at most `wanted`) at least min_distance_px from `existing` and from
+  /// each other, at most a per-cell quota in each grid cell (existing features count toward
+  /// the quota); strongest FAST responses first. Cells left empty at fast_threshold are
+  /// retried at fast_threshold_min.
+  std::vector<cv::Point2f> detect(const cv::Mat& image, const std::vector<cv::Point2f>& existing,
+                                  int wanted) const;
+
+ private:
+  FrontendParams p_;
+};
+
+}  // namespace vid

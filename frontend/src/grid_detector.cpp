@@ -1,0 +1,156 @@
+#include "frontend/grid_detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/features2d.hpp>
+
+namespace vid {
+namespace {
+
+/// Occupancy raster with cells of min_distance / sqrt(2): one feature per raster cell and
+/// its 5x5 neighbourhood checked exactly keeps every pair >= min_distance apart.
+class DistanceMask {
+ public:
+  DistanceMask(int width, int height, double min_distance)
+      : min_d2_(min_distance * min_distance),
+        cell_(std::max(1.0, min_distance / std::sqrt(2.0))),
+        cols_(static_cast<int>(std::ceil(width / cell_)) + 1),
+        rows_(static_cast<int>(std::ceil(height / cell_)) + 1),
+        slots_(static_cast<std::size_t>(cols_ * rows_), -1) {}
+
+  bool free(const cv::Point2f& p) const {
+    const int cx = cell_x(p), cy = cell_y(p);
+    const int r = static_cast<int>(std::ceil(std::sqrt(min_d2_) / cell_));
+    for (int y = std::max(0, cy - r); y <= std::min(rows_ - 1, cy + r); ++y) {
+      for (int x = std::max(0, cx - r); x <= std::min(cols_ - 1, cx + r); ++x) {
+        const int idx = slots_[static_cast<std::size_t>(y * cols_ + x)];
+        if (idx < 0) continue;
+        const cv::Point2f d = points_[static_cast<std::size_t>(idx)] - p;
+        if (d.x * d.x + d.y * d.y < min_d2_) return false;
+      }
+    }
+    return true;
+  }
+
+  void add(const cv::Point2f& p) {
+    const std::size_t s = static_cast<std::size_t>(cell_y(p) * cols_ + cell_x(p));
+    slots_[s] = static_cast<int>(points_.size());
+    points_.push_back(p);
+  }
+
+ private:
+  int cell_x(const cv::Point2f& p) const {
+    return std::clamp(static_cast<int>(p.x / cell_), 0, cols_ - 1);
+  }
+  int cell_y(const cv::Point2f& p) const {
+    return std::clamp(static_cast<int>(p.y / cell_), 0, rows_ - 1);
+  }
+  double min_d2_;
+  double cell_;
+  int cols_, rows_;
+  std::vector<int> slots_;
+  std::vector<cv::Point2f> points_;
+};
+
+}  // namespace
+
+std::vector<cv::Point2f> GridDetector::detect(const cv::Mat& image,
+                                              const std::vector<cv::Point2f>& existing,
+                                              int wanted) const {
+  std::vector<cv::Point2f> out;
+  if (wanted <= 0 || image.empty()) return out;
+  const int W = image.cols, H = image.rows;
+  const int gc = std::max(1, p_.grid_cols), gr = std::max(1, p_.grid_rows);
+  const int n_cells = gc * gr;
+  const int quota = static_cast<int>(
+      std::ceil(static_cast<double>(existing.size() + static_cast<std::size_t>(wanted)) / n_cells));
+  const double cw = static_cast<double>(W) / gc, ch = static_cast<double>(H) / gr;
+  auto cell_of = [&](const cv::Point2f& p) {
+    const int x = std::clamp(static_cast<int>(p.x / cw), 0, gc - 1);
+    const int y = std::clamp(static_cast<int>(p.y / ch), 0, gr - 1);
+    return y * gc + x;
+  };
+
+  DistanceMask mask(W, H, p_.min_distance_px);
+  std::vector<int> count(static_cast<std::size_t>(n_cells), 0);
+  for (const auto& e : existing) {
+    mask.add(e);
+    ++count[static_cast<std::size_t>(cell_of(e))];
+  }
+
+  // One FAST pass over the image (inside the border), bucketed by cell.
+  const int b = std::max(p_.border_px, 3);
+  if (W <= 2 * b || H <= 2 * b) return out;
+  const cv::Rect roi(b, b, W - 2 * b, H - 2 * b);
+  auto fast_in = [&](const cv::Rect& r, int threshold) {
+    std::vector<cv::KeyPoint> kps;
+    cv::FAST(image(r), kps, threshold, true);
+    for (auto& k : kps) k.pt += cv::Point2f(static_cast<float>(r.x), static_cast<float>(r.y));
+    return kps;
+  };
+  std::vector<std::vector<cv::KeyPoint>> buckets(static_cast<std::size_t>(n_cells));
+  for (const auto& k : fast_in(roi, p_.fast_threshold)) {
+    buckets[static_cast<std::size_t>(cell_of(k.pt))].push_back(k);
+  }
+  // Retry weakly textured cells with a lower threshold so that every region gets features.
+  if (p_.fast_threshold_min > 0 && p_.fast_threshold_min < p_.fast_threshold) {
+    for (int c = 0; c < n_cells; ++c) {
+      auto& bucket = buckets[static_cast<std::size_t>(c)];
+      if (!bucket.empty() || count[static_cast<std::size_t>(c)] >= quota) continue;
+      const cv::Rect cell(static_cast<int>((c % gc) * cw), static_cast<int>((c / gc) * ch),
+                          static_cast<int>(std::ceil(cw)), static_cast<int>(std::ceil(ch)));
+      const cv::Rect r = cell & roi;
+      if (r.width < 7 || r.height < 7) continue;
+      for (const auto& k : fast_in(r, p_.fast_threshold_min)) {
+        if (cell_of(k.pt) == c) bucket.push_back(k);
+      }
+    }
+  }
+
+  // Per cell, strongest first, up to the quota; leftovers may fill the global budget later.
+  std::vector<cv::KeyPoint> leftovers;
+  for (int c = 0; c < n_cells; ++c) {
+    auto& bucket = buckets[static_cast<std::size_t>(c)];
+    std::sort(bucket.begin(), bucket.end(),
+              [](const cv::KeyPoint& a, const cv::KeyPoint& b2) { return a.response > b2.response; });
+    for (const auto& k : bucket) {
+      if (count[static_cast<std::size_t>(c)] >= quota) {
+        leftovers.push_back(k);
+        continue;
+      }
+      if (!mask.free(k.pt)) continue;
+      mask.add(k.pt);
+      out.push_back(k.pt);
+      ++count[static_cast<std::size_t>(c)];
+    }
+  }
+  if (static_cast<int>(out.size()) > wanted) {
+    // Too many (quotas round up): keep an even spread by dropping from the fullest cells last
+    // added; simplest fair rule is truncation of a cell-interleaved order.
+    std::vector<std::vector<cv::Point2f>> per(static_cast<std::size_t>(n_cells));
+    for (const auto& p : out) per[static_cast<std::size_t>(cell_of(p))].push_back(p);
+    out.clear();
+    for (std::size_t rank = 0; static_cast<int>(out.size()) < wanted; ++rank) {
+      bool any = false;
+      for (auto& v : per) {
+        if (rank < v.size()) {
+          any = true;
+          if (static_cast<int>(out.size()) < wanted) out.push_back(v[rank]);
+        }
+      }
+      if (!any) break;
+    }
+    return out;
+  }
+  std::sort(leftovers.begin(), leftovers.end(),
+            [](const cv::KeyPoint& a, const cv::KeyPoint& b2) { return a.response > b2.response; });
+  for (const auto& k : leftovers) {
+    if (static_cast<int>(out.size()) >= wanted) break;
+    if (!mask.free(k.pt)) continue;
+    mask.add(k.pt);
+    out.push_back(k.pt);
+  }
+  return out;
+}
+
+}  // namespace vid
