@@ -1,7 +1,8 @@
 """Relative pose error over sub-trajectory lengths, in the style of rpg_trajectory_evaluation.
 
 For each length d and each start pose i, the end pose j is the one whose distance travelled
-along the ground truth from i is closest to d (accepted if within ``max_dist_diff * d``).
+along the ground truth from i is closest to d (accepted if within ``max_dist_diff * d``;
+starts closer than d to the end of the trajectory are skipped).
 The error of the pair is ``E = (T_gt,i^-1 T_gt,j)^-1 (T_est,i^-1 T_est,j)`` on the aligned
 estimate; reported per length: translation error [m], translation drift [% of d], rotation
 error [deg] and [deg/m].
@@ -69,7 +70,9 @@ def _end_indices(accum: np.ndarray, distance: float, max_dist_diff: float):
     err_lo = np.abs(accum[lo] - target)
     best = np.where(err_lo <= err_hi, lo, hi)
     err = np.minimum(err_lo, err_hi)
-    ok = (err < max_dist_diff * distance) & (best > starts)
+    # only segments that fit inside the trajectory (no truncated segments at its end)
+    fits = target <= accum[-1] + 1e-9 * max(1.0, distance)
+    ok = (err < max_dist_diff * distance) & (best > starts) & fits
     return starts[ok], best[ok]
 
 

@@ -30,7 +30,10 @@ def plot_force(res: ForceResult, out_dir: os.PathLike, name: str = "force.png") 
     axes[3].plot(te, np.linalg.norm(res.err, axis=1), color=ERR_COLOR, lw=0.9, label="‖error‖")
     axes[3].axhline(res.rmse_norm, color="gray", ls="--", lw=1.0,
                     label=f"RMSE {res.rmse_norm:.3f} m/s²")
+    axes[3].set_ylim(bottom=0.0, top=max(1e-6, 1.15 * float(np.max(np.linalg.norm(res.err, axis=1)))))
     axes[3].set_ylabel("‖error‖ [m/s²]")
+    for ax in axes:
+        ax.ticklabel_format(axis="y", useOffset=False, style="plain")
     axes[3].set_xlabel("time [s]")
     axes[3].legend(loc="upper right", fontsize=8)
     fig.suptitle(f"external force (mass-normalized, {frame} frame)")

@@ -48,6 +48,9 @@ def plot_errors(res: AteResult, out_dir: os.PathLike) -> Path:
                    label=f"RMSE {res.rot_rmse_deg:.2f} deg")
         ax.set_ylabel("rotation error [deg]")
         ax.legend(loc="upper left", fontsize=8)
+    for a in axes[:, 0]:
+        a.set_ylim(bottom=0.0)
+        a.ticklabel_format(axis="y", useOffset=False, style="plain")
     axes[-1, 0].set_xlabel("time since first pose [s]")
     return save(fig, out_dir, "traj_errors.png")
 
