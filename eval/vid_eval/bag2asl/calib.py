@@ -111,7 +111,7 @@ def invert_pose(T: np.ndarray) -> np.ndarray:
 
 
 def write_camera_yaml(preset: Preset, cam: str, out: pathlib.Path, rate_hz: float | None,
-                      resolution) -> None:
+                      resolution, topic: str) -> None:
     c = _key(preset.cams, cam, preset.cam_path)
     where = f"{cam}."
     T_CI = _matrix4(_key(c, "T_cam_imu", preset.cam_path, where), preset.cam_path, where + "T_cam_imu")
@@ -123,7 +123,7 @@ def write_camera_yaml(preset: Preset, cam: str, out: pathlib.Path, rate_hz: floa
     res = resolution or _key(c, "resolution", preset.cam_path, where)
     text = (f"# {cam}: converted by vid-bag2asl from {preset.cam_path.name}\n"
             "sensor_type: camera\n"
-            f"comment: {c.get('rostopic', cam)}\n"
+            f"comment: from {topic}\n"
             "T_BS:\n  cols: 4\n  rows: 4\n"
             f"  data: {_flow(T_IC.reshape(-1))}\n"
             f"rate_hz: {fmt(round(rate_hz, 3)) if rate_hz else fmt(30.0)}\n"
@@ -136,12 +136,12 @@ def write_camera_yaml(preset: Preset, cam: str, out: pathlib.Path, rate_hz: floa
     _write_text(out / cam / "sensor.yaml", text)
 
 
-def write_imu_yaml(preset: Preset, out: pathlib.Path, rate_hz: float | None) -> None:
+def write_imu_yaml(preset: Preset, out: pathlib.Path, rate_hz: float | None, topic: str) -> None:
     p, i = preset.imu_path, preset.imu
     T = _matrix4(i.get("T_i_b", np.eye(4).tolist()), p, "imu0.T_i_b")
     text = ("# imu0: converted by vid-bag2asl from " + p.name + "\n"
             "sensor_type: imu\n"
-            f"comment: {i.get('rostopic', 'imu0')}\n"
+            f"comment: from {topic}\n"
             "T_BS:\n  cols: 4\n  rows: 4\n"
             f"  data: {_flow(T.reshape(-1))}\n"
             f"rate_hz: {fmt(round(rate_hz, 3) if rate_hz else _key(i, 'update_rate', p, 'imu0.'))}\n"

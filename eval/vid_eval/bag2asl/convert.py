@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import yaml
 
 from .bagio import Bag, short_type
-from .calib import Preset, mass_for, write_camera_yaml, write_imu_yaml, write_rotor_yaml, write_vehicle_yaml
+from .calib import DEFAULT_PRESET, Preset, mass_for, write_camera_yaml, write_imu_yaml, write_rotor_yaml, write_vehicle_yaml
 from .errors import ConfigError, UnknownTypeError
 from .extract import ForceHandler, ImageHandler, ImuHandler, RotorHandler, ThrustHandler
 from .groundtruth import GroundTruthHandler
@@ -90,8 +90,7 @@ def _window(bag: Bag, opts: Options) -> tuple[int | None, int | None]:
 def convert(opts: Options, log=print) -> dict:
     """Run the conversion; returns the summary also written to OUT/bag2asl.yaml."""
     tmap = topicmap.load(opts.topics)
-    preset = Preset(pathlib.Path(opts.preset) if opts.preset else __import__(
-        "vid_eval.bag2asl.calib", fromlist=["DEFAULT_PRESET"]).DEFAULT_PRESET)
+    preset = Preset(pathlib.Path(opts.preset) if opts.preset else DEFAULT_PRESET)
     mav0 = opts.out / "mav0"
     if mav0.exists() and any(mav0.iterdir()) and not opts.overwrite:
         raise ConfigError(f"{mav0} exists and is not empty (use --overwrite)")
@@ -121,6 +120,7 @@ def convert(opts: Options, log=print) -> dict:
         t1 = stop if stop is not None else bag.end_ns
         bar = Progress(t1 - t0, opts.progress)
         wall = time.monotonic()
+        cpu = time.process_time()
         for conn, bag_ns, raw in bag.messages(conns, start, stop):
             for h, index, topic, msgtype, deser in routes[conn.id]:
                 h.feed(index, topic, msgtype, deser(raw), bag_ns)
@@ -130,9 +130,10 @@ def convert(opts: Options, log=print) -> dict:
         for h in handlers:
             h.finish()
         wall = time.monotonic() - wall
+        cpu = time.process_time() - cpu
     finally:
         bag.close()
-    summary = _summary(opts, profile, handlers, mass_kg, mass_source, wall, tmap)
+    summary = _summary(opts, profile, handlers, mass_kg, mass_source, wall, cpu, tmap)
     _write_calibration(preset, mav0, handlers, mass_kg, mass_source)
     _write_summary(opts.out / "bag2asl.yaml", summary)
     _log_summary(summary, log)
@@ -147,15 +148,15 @@ def _write_calibration(preset, mav0, handlers, mass_kg, mass_source) -> None:
             if h.name not in preset.cams:
                 raise ConfigError(f"{preset.cam_path}: no calibration for camera stream '{h.name}'")
             res = [h.width, h.height] if h.width else None
-            write_camera_yaml(preset, h.name, mav0, rate, res)
+            write_camera_yaml(preset, h.name, mav0, rate, res, h.rs.source.topics[0])
         elif isinstance(h, ImuHandler):
-            write_imu_yaml(preset, mav0, rate)
+            write_imu_yaml(preset, mav0, rate, h.rs.source.topics[0])
         elif isinstance(h, RotorHandler) and h.csv is not None:
             write_rotor_yaml(preset, mav0, h.name, h.rs.source.unit or h.rs.spec.options.get("unit"),
                              h.count, rate, h.rs.spec.options.get("noise_density"))
 
 
-def _summary(opts, profile, handlers, mass_kg, mass_source, wall, tmap) -> dict:
+def _summary(opts, profile, handlers, mass_kg, mass_source, wall, cpu, tmap) -> dict:
     streams = {}
     image_raw = image_png = 0
     for h in handlers:
@@ -178,9 +179,10 @@ def _summary(opts, profile, handlers, mass_kg, mass_source, wall, tmap) -> dict:
         streams[h.name] = entry
     return {"bag": str(opts.bag), "topic_map": str(tmap.path), "profile": profile,
             "mass_kg": mass_kg, "mass_source": mass_source, "streams": streams,
-            "wall_s": round(wall, 3), "image_input_mb": round(image_raw / 1e6, 3),
+            "wall_s": round(wall, 3), "cpu_s": round(cpu, 3), "image_input_mb": round(image_raw / 1e6, 3),
             "image_png_mb": round(image_png / 1e6, 3),
-            "image_mb_per_s": round(image_raw / 1e6 / wall, 2) if wall > 0 else None}
+            "image_mb_per_s": round(image_raw / 1e6 / wall, 2) if wall > 0 else None,
+            "image_mb_per_cpu_s": round(image_raw / 1e6 / cpu, 2) if cpu > 0 else None}
 
 
 def _write_summary(path: pathlib.Path, summary: dict) -> None:
@@ -199,4 +201,5 @@ def _log_summary(s: dict, log) -> None:
         drop = f", {e['dropped_non_increasing']} dropped (time not increasing)" if e["dropped_non_increasing"] else ""
         log(f"  {name:<28} {e['rows']:>8} rows from {'+'.join(e['topics'])}{extra}{drop}")
     if s["image_input_mb"]:
-        log(f"images: {s['image_input_mb']} MB in {s['wall_s']} s = {s['image_mb_per_s']} MB/s")
+        log(f"images: {s['image_input_mb']} MB in {s['wall_s']} s = {s['image_mb_per_s']} MB/s "
+            f"({s['image_mb_per_cpu_s']} MB per CPU second)")

@@ -11,9 +11,8 @@ import pathlib
 from typing import IO, Iterable
 
 import numpy as np
-from PIL import Image
-
 from .errors import DiskFullError
+from .png import encode_gray8
 
 
 def _open_out(path: pathlib.Path, mode: str) -> IO:
@@ -92,16 +91,13 @@ class CsvStream:
 
 def write_png(path: pathlib.Path, gray: np.ndarray, compress_level: int) -> int:
     """Write an 8-bit single-channel image as PNG; returns the bytes written."""
-    if gray.dtype != np.uint8 or gray.ndim != 2:
-        raise ValueError("write_png expects a 2-D uint8 array")
-    img = Image.fromarray(np.ascontiguousarray(gray))
+    data = encode_gray8(gray, compress_level)
     try:
         with _open_out(path, "wb") as f:
-            img.save(f, format="PNG", compress_level=compress_level)
-            size = f.tell()
+            f.write(data)
     except OSError as err:
         raise os_error(path, err) from None
-    return size
+    return len(data)
 
 
 def remove_quietly(path: pathlib.Path) -> None:

@@ -1,0 +1,55 @@
+"""vid-bag2asl BAG OUT [--topics FILE] [--start S] [--end S] [--mass KG] ...
+
+Errors print one line on stderr ("vid-bag2asl: error: ...") and exit with status 1
+(2 for command-line usage errors, 130 on Ctrl-C).
+"""
+from __future__ import annotations
+
+import argparse
+import pathlib
+import sys
+
+from .convert import Options, convert
+from .errors import Bag2AslError
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="vid-bag2asl",
+        description="Convert a ROS1 bag (bz2/lz4/uncompressed) or ROS2 bag to the VID-MSCKF "
+                    "dataset folder (EuRoC/ASL + rotor0, force0, thrust0, vehicle.yaml). "
+                    "Default topic map: VID-Dataset. See eval/vid_eval/bag2asl/README.md.")
+    p.add_argument("bag", type=pathlib.Path, help="ROS1 .bag file or ROS2 bag directory")
+    p.add_argument("out", type=pathlib.Path, help="output folder (OUT/mav0/... is written)")
+    p.add_argument("--topics", type=pathlib.Path, metavar="FILE",
+                   help="topic map YAML (default: topic_maps/vid_dataset.yaml)")
+    p.add_argument("--start", type=float, metavar="S", help="skip the first S seconds (bag time)")
+    p.add_argument("--end", type=float, metavar="S", help="stop S seconds after the bag start")
+    p.add_argument("--mass", type=float, metavar="KG", help="vehicle mass (else the mass rule)")
+    p.add_argument("--preset", type=pathlib.Path, metavar="DIR",
+                   help="calibration preset folder (default: config/vid_dataset)")
+    p.add_argument("--png-level", type=int, default=1, choices=range(0, 10), metavar="0-9",
+                   help="PNG zlib compression level (default 1: fast)")
+    p.add_argument("--overwrite", action="store_true", help="write into a non-empty OUT/mav0")
+    p.add_argument("--no-progress", action="store_true", help="never draw the progress bar")
+    return p
+
+
+def main(argv=None) -> int:
+    args = build_parser().parse_args(argv)
+    opts = Options(bag=args.bag, out=args.out, topics=args.topics, start_s=args.start, end_s=args.end,
+                   mass_kg=args.mass, preset=args.preset, png_level=args.png_level,
+                   overwrite=args.overwrite, progress=False if args.no_progress else None)
+    try:
+        convert(opts)
+    except Bag2AslError as err:
+        print(f"vid-bag2asl: error: {err}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("vid-bag2asl: interrupted", file=sys.stderr)
+        return 130
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
