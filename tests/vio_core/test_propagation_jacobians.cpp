@@ -1,0 +1,159 @@
+// Propagation Jacobians Phi and G (both modes) and the accelerometer measurement Jacobian
+// against central numeric differentiation of the discrete maps.
+#include <gtest/gtest.h>
+
+#include "vio_core/ekf_update.h"
+#include "vio_core/propagation.h"
+#include "vio_core/so3.h"
+
+namespace {
+using namespace vid;
+using Eigen::MatrixXd;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+
+ImuState perturb(const ImuState& x, const VectorXd& dx, bool dyn) {
+  ImuState y = x;
+  y.q_WI = so3::boxplus(x.q_WI, dx.segment<3>(imu_idx::kTheta));
+  y.p_WI += dx.segment<3>(imu_idx::kP);
+  y.v_WI += dx.segment<3>(imu_idx::kV);
+  y.b_g += dx.segment<3>(imu_idx::kBg);
+  y.b_a += dx.segment<3>(imu_idx::kBa);
+  if (dyn) y.F_ext_I += dx.segment<3>(imu_idx::kF);
+  return y;
+}
+
+VectorXd difference(const ImuState& a, const ImuState& b, bool dyn) {
+  VectorXd d(dyn ? 18 : 15);
+  d.segment<3>(imu_idx::kTheta) = so3::boxminus(a.q_WI, b.q_WI);
+  d.segment<3>(imu_idx::kP) = a.p_WI - b.p_WI;
+  d.segment<3>(imu_idx::kV) = a.v_WI - b.v_WI;
+  d.segment<3>(imu_idx::kBg) = a.b_g - b.b_g;
+  d.segment<3>(imu_idx::kBa) = a.b_a - b.b_a;
+  if (dyn) d.segment<3>(imu_idx::kF) = a.F_ext_I - b.F_ext_I;
+  return d;
+}
+
+DiscreteNoise noise_from(const VectorXd& n, bool dyn) {
+  DiscreteNoise w;
+  w.n_g = n.segment<3>(noise_idx::kNg);
+  w.n_a = n.segment<3>(noise_idx::kNa);
+  w.w_g = n.segment<3>(noise_idx::kWg);
+  w.w_a = n.segment<3>(noise_idx::kWa);
+  if (dyn) w.w_F = n.segment<3>(noise_idx::kWF);
+  return w;
+}
+
+ImuState sample_state() {
+  ImuState x;
+  x.q_WI = so3::quat_exp(Vector3d(0.3, -0.5, 2.0));
+  x.p_WI = Vector3d(1.0, -2.0, 1.5);
+  x.v_WI = Vector3d(0.8, 0.3, -0.4);
+  x.b_g = Vector3d(0.01, -0.02, 0.015);
+  x.b_a = Vector3d(0.1, -0.05, 0.2);
+  x.F_ext_I = Vector3d(0.5, -0.3, 0.2);
+  return x;
+}
+
+ImuInterval sample_interval(bool dyn, double dt) {
+  ImuInterval u;
+  u.dt = dt;
+  u.gyro0 = Vector3d(0.5, -1.2, 0.9);
+  u.gyro1 = Vector3d(0.7, -1.0, 1.3);
+  u.drive0 = dyn ? Vector3d(0, 0, 9.6) : Vector3d(0.4, -0.2, 9.7);
+  u.drive1 = dyn ? Vector3d(0, 0, 10.3) : Vector3d(0.9, 0.1, 9.3);
+  return u;
+}
+
+// Compare every 3x3 block relative to its own size (and the whole matrix).
+void expect_blocks_near(const MatrixXd& A, const MatrixXd& N, double rel) {
+  ASSERT_EQ(A.rows(), N.rows());
+  ASSERT_EQ(A.cols(), N.cols());
+  for (int i = 0; i < A.rows(); i += 3) {
+    for (int j = 0; j < A.cols(); j += 3) {
+      const MatrixXd a = A.block(i, j, 3, 3);
+      const MatrixXd n = N.block(i, j, 3, 3);
+      const double scale = std::max(a.norm(), 1e-3 * A.norm());
+      EXPECT_LE((a - n).norm(), rel * scale) << "block (" << i << "," << j << ")\nanalytic\n"
+                                             << a << "\nnumeric\n" << n;
+    }
+  }
+}
+
+void check_mode(PropagationMode mode, double dt) {
+  const bool dyn = mode == PropagationMode::kDynamics;
+  const int d = dyn ? 18 : 15;
+  const int nn = dyn ? 15 : 12;
+  const Vector3d g(0, 0, -9.81);
+  const ImuState x = sample_state();
+  const ImuInterval u = sample_interval(dyn, dt);
+  const ImuState y = propagate_mean(x, u, mode, g);
+  ImuFej fej;
+  fej.q_WI = x.q_WI;
+  fej.p_WI = x.p_WI;
+  fej.v_WI = x.v_WI;
+  MatrixXd Phi, G;
+  propagation_jacobians(x, fej, y, u, mode, g, &Phi, &G);
+
+  const double h = 1e-6;
+  MatrixXd Phi_num(d, d), G_num(d, nn);
+  for (int i = 0; i < d; ++i) {
+    VectorXd e = VectorXd::Zero(d);
+    e(i) = h;
+    const ImuState yp = propagate_mean(perturb(x, e, dyn), u, mode, g);
+    const ImuState ym = propagate_mean(perturb(x, -e, dyn), u, mode, g);
+    Phi_num.col(i) = (difference(yp, y, dyn) - difference(ym, y, dyn)) / (2 * h);
+  }
+  for (int i = 0; i < nn; ++i) {
+    VectorXd e = VectorXd::Zero(nn);
+    e(i) = h;
+    const ImuState yp = propagate_mean(x, u, mode, g, noise_from(e, dyn));
+    const ImuState ym = propagate_mean(x, u, mode, g, noise_from(-e, dyn));
+    G_num.col(i) = (difference(yp, y, dyn) - difference(ym, y, dyn)) / (2 * h);
+  }
+  expect_blocks_near(Phi, Phi_num, 1e-6);
+  expect_blocks_near(G, G_num, 1e-6);
+}
+
+TEST(PropagationJacobians, ImuModeMatchesNumeric) { check_mode(PropagationMode::kImu, 0.0025); }
+TEST(PropagationJacobians, DynamicsModeMatchesNumeric) {
+  check_mode(PropagationMode::kDynamics, 0.0025);
+}
+// Long intervals (gaps) exercise the non-small-angle branches.
+TEST(PropagationJacobians, LongIntervalBothModes) {
+  check_mode(PropagationMode::kImu, 0.5);
+  check_mode(PropagationMode::kDynamics, 0.5);
+}
+
+TEST(PropagationMean, ConstantAccelerationIsExact) {
+  // Zero rate, constant world acceleration: p and v are integrated exactly.
+  ImuState x;
+  x.v_WI = Vector3d(1, 2, 3);
+  ImuInterval u;
+  u.dt = 0.3;
+  u.drive0 = u.drive1 = Vector3d(0.5, -0.5, 9.81 + 1.0);
+  const ImuState y = propagate_mean(x, u, PropagationMode::kImu, Vector3d(0, 0, -9.81));
+  const Vector3d a(0.5, -0.5, 1.0);
+  EXPECT_LT((y.v_WI - (x.v_WI + a * 0.3)).norm(), 1e-12);
+  EXPECT_LT((y.p_WI - (x.v_WI * 0.3 + 0.5 * a * 0.09)).norm(), 1e-12);
+}
+
+TEST(AccelMeasurement, JacobianMatchesNumeric) {
+  // h(x) = T_m + F_ext + b_a; the update uses H = [0 .. I(b_a) I(F)].
+  const ImuState x = sample_state();
+  const Vector3d Tm(0, 0, 9.9);
+  MatrixXd H_num(3, 18);
+  const double h = 1e-6;
+  for (int i = 0; i < 18; ++i) {
+    VectorXd e = VectorXd::Zero(18);
+    e(i) = h;
+    H_num.col(i) = (predict_accel(perturb(x, e, true), Tm) - predict_accel(perturb(x, -e, true), Tm)) /
+                   (2 * h);
+  }
+  MatrixXd H = MatrixXd::Zero(3, 18);
+  H.block<3, 3>(0, imu_idx::kBa).setIdentity();
+  H.block<3, 3>(0, imu_idx::kF).setIdentity();
+  EXPECT_LT((H - H_num).norm(), 1e-6 * H.norm());
+}
+
+}  // namespace

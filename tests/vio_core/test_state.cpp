@@ -1,0 +1,173 @@
+// State/covariance bookkeeping: clone augmentation and marginalization, calibration
+// variables, corrections, generic and accelerometer EKF updates vs the dense textbook formula.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "vio_core/ekf_update.h"
+#include "vio_core/so3.h"
+#include "vio_core/state.h"
+
+namespace {
+using namespace vid;
+using Eigen::MatrixXd;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+
+MatrixXd random_spd(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> nd(0, 1);
+  MatrixXd A(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) A(i, j) = nd(rng);
+  return 0.1 * A * A.transpose() / n + 0.01 * MatrixXd::Identity(n, n);
+}
+
+FilterState make_state(bool dyn) {
+  FilterState s(dyn);
+  ImuState x;
+  x.q_WI = so3::quat_exp(Vector3d(0.1, 0.2, -0.3));
+  x.p_WI = Vector3d(1, 2, 3);
+  s.initialize(1000, x, random_spd(s.imu_dim(), 3));
+  return s;
+}
+
+TEST(FilterState, AugmentationCopiesImuPoseBlock) {
+  FilterState s = make_state(true);
+  const MatrixXd P0 = s.P();
+  s.augment_clone();
+  ASSERT_EQ(s.dim(), 24);
+  ASSERT_EQ(s.clones().size(), 1u);
+  const CloneState& c = s.clones().back();
+  EXPECT_EQ(c.cov_index, 18);
+  EXPECT_EQ(c.t_ns, 1000);
+  EXPECT_TRUE(c.q_WI.isApprox(s.imu().q_WI));
+  EXPECT_TRUE(c.p_WI_fej.isApprox(s.imu_fej().p_WI));
+  // P_new = J P J^T with J = [I; selection of dtheta, dp]
+  MatrixXd J = MatrixXd::Zero(24, 18);
+  J.topRows(18).setIdentity();
+  J.block(18, 0, 6, 6).setIdentity();
+  EXPECT_LT((s.P() - J * P0 * J.transpose()).norm(), 1e-15);
+}
+
+TEST(FilterState, MarginalizationDropsOldestCloneAndReindexes) {
+  FilterState s = make_state(false);
+  for (int i = 0; i < 3; ++i) {
+    s.set_time(1000 + i);
+    s.imu().p_WI.x() += 1.0;
+    s.augment_clone();
+  }
+  // Make the clone blocks distinguishable.
+  s.P() = random_spd(s.dim(), 5);
+  const MatrixXd P_before = s.P();
+  s.marginalize_oldest_clone();
+  ASSERT_EQ(s.clones().size(), 2u);
+  EXPECT_EQ(s.clones().front().t_ns, 1001);
+  EXPECT_EQ(s.clones()[0].cov_index, 15);
+  EXPECT_EQ(s.clones()[1].cov_index, 21);
+  std::vector<int> keep;
+  for (int i = 0; i < 15; ++i) keep.push_back(i);
+  for (int i = 21; i < 33; ++i) keep.push_back(i);
+  for (std::size_t i = 0; i < keep.size(); ++i)
+    for (std::size_t j = 0; j < keep.size(); ++j)
+      EXPECT_EQ(s.P()(i, j), P_before(keep[i], keep[j]));
+}
+
+TEST(FilterState, CalibPoseInsertedAfterImuShiftsClones) {
+  FilterState s = make_state(true);
+  s.augment_clone();
+  const MatrixXd Pc = s.P().block(18, 18, 6, 6);
+  const int k = s.add_calib_pose("T_IC0", Eigen::Quaterniond::Identity(), Vector3d(0.1, 0, 0), 0.01,
+                                 0.02);
+  EXPECT_EQ(s.calib_poses()[k].cov_index, 18);
+  EXPECT_EQ(s.clones()[0].cov_index, 24);
+  EXPECT_LT((s.P().block(24, 24, 6, 6) - Pc).norm(), 1e-15);
+  EXPECT_NEAR(s.P()(18, 18), 1e-4, 1e-15);
+  EXPECT_NEAR(s.P()(21, 21), 4e-4, 1e-15);
+  EXPECT_EQ(s.P().block(18, 0, 6, 18).norm(), 0.0);
+  // correction reaches the calibration variable
+  VectorXd dx = VectorXd::Zero(s.dim());
+  dx(21) = 0.5;
+  s.apply_correction(dx);
+  EXPECT_NEAR(s.calib_poses()[k].p.x(), 0.6, 1e-15);
+}
+
+TEST(FilterState, HealthDetectsNonPdAndNaN) {
+  FilterState s = make_state(true);
+  EXPECT_TRUE(s.check_and_symmetrize().positive_definite);
+  s.P()(3, 3) = -1.0;
+  EXPECT_FALSE(s.check_and_symmetrize().positive_definite);
+  s.P()(3, 3) = std::numeric_limits<double>::quiet_NaN();
+  const CovarianceHealth h = s.check_and_symmetrize();
+  EXPECT_FALSE(h.finite);
+  EXPECT_FALSE(h.positive_definite);
+}
+
+// Textbook dense update as the reference.
+void dense_update(MatrixXd& P, const MatrixXd& H, const VectorXd& r, const MatrixXd& R, VectorXd* dx) {
+  const MatrixXd S = H * P * H.transpose() + R;
+  const MatrixXd K = P * H.transpose() * S.inverse();
+  *dx = K * r;
+  P = (MatrixXd::Identity(P.rows(), P.rows()) - K * H) * P;
+}
+
+TEST(EkfUpdate, SparseGenericUpdateMatchesDense) {
+  FilterState s = make_state(true);
+  for (int i = 0; i < 4; ++i) s.augment_clone();
+  s.P() = random_spd(s.dim(), 11);
+  std::mt19937 rng(2);
+  std::normal_distribution<double> nd(0, 1);
+  MatrixXd H = MatrixXd::Zero(5, s.dim());
+  for (int i = 0; i < 5; ++i)
+    for (int j : {24, 25, 29, 30, 40, 41}) H(i, j) = nd(rng);
+  VectorXd r(5);
+  for (int i = 0; i < 5; ++i) r(i) = 0.01 * nd(rng);
+  const MatrixXd R = 0.01 * MatrixXd::Identity(5, 5);
+  MatrixXd P_ref = s.P();
+  VectorXd dx_ref;
+  dense_update(P_ref, H, r, R, &dx_ref);
+  const Vector3d p_clone_before = s.clones()[1].p_WI;
+  const UpdateResult res = ekf_update(s, H, r, R);
+  ASSERT_TRUE(res.applied);
+  EXPECT_LT((s.P() - P_ref).norm(), 1e-12);
+  EXPECT_LT((s.clones()[1].p_WI - p_clone_before - dx_ref.segment<3>(27)).norm(), 1e-12);
+  // gating rejects a huge residual and leaves the state untouched
+  const MatrixXd P_after = s.P();
+  const UpdateResult gated = ekf_update(s, H, r * 1e4, R, chi2_quantile(5, 0.95));
+  EXPECT_FALSE(gated.applied);
+  EXPECT_GT(gated.chi2, gated.threshold);
+  EXPECT_EQ((s.P() - P_after).norm(), 0.0);
+}
+
+TEST(EkfUpdate, AccelUpdateMatchesDenseUpdate) {
+  FilterState s = make_state(true);
+  for (int i = 0; i < 3; ++i) s.augment_clone();
+  s.P() = random_spd(s.dim(), 13);
+  const Vector3d Tm(0, 0, 9.7), a_m(0.2, -0.1, 9.9);
+  MatrixXd H = MatrixXd::Zero(3, s.dim());
+  H.block<3, 3>(0, imu_idx::kBa).setIdentity();
+  H.block<3, 3>(0, imu_idx::kF).setIdentity();
+  const VectorXd r = a_m - predict_accel(s.imu(), Tm);
+  MatrixXd P_ref = s.P();
+  VectorXd dx_ref;
+  dense_update(P_ref, H, r, 0.04 * MatrixXd::Identity(3, 3), &dx_ref);
+  const ImuState x0 = s.imu();
+  const UpdateResult res = accel_update(s, a_m, Tm, 0.04, 100.0);
+  ASSERT_TRUE(res.applied);
+  EXPECT_LT((s.P() - P_ref).norm(), 1e-12);
+  EXPECT_EQ((s.P() - s.P().transpose()).norm(), 0.0);
+  EXPECT_LT((s.imu().F_ext_I - x0.F_ext_I - dx_ref.segment<3>(imu_idx::kF)).norm(), 1e-12);
+  EXPECT_LT((s.imu().v_WI - x0.v_WI - dx_ref.segment<3>(imu_idx::kV)).norm(), 1e-12);
+  // chi2 gating: an absurd reading is rejected
+  const UpdateResult bad = accel_update(s, a_m + Vector3d(100, 0, 0), Tm, 0.04, 11.345);
+  EXPECT_FALSE(bad.applied);
+}
+
+TEST(EkfUpdate, Chi2Quantiles) {
+  EXPECT_NEAR(chi2_quantile(3, 0.99), 11.345, 1e-3);
+  EXPECT_NEAR(chi2_quantile(1, 0.95), 3.841, 1e-3);
+  EXPECT_NEAR(chi2_quantile(30, 0.95), 43.773, 0.1);
+  EXPECT_NEAR(chi2_quantile(100, 0.99), 135.807, 0.5);
+}
+
+}  // namespace

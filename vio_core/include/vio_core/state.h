@@ -1,0 +1,131 @@
+#pragma once
+/// @file state.h
+/// @brief Filter state and covariance bookkeeping: typed variables that know their column in
+/// the error-state covariance P (IMU block, optional calibration poses, stochastic clones),
+/// clone augmentation, marginalization, error-state correction, and health checks.
+///
+/// Error-state layout of the IMU block (right perturbation on orientation, DESIGN §3):
+/// [dtheta(3), dp_WI(3), dv_WI(3), db_g(3), db_a(3)] and, in dynamics mode, dF_ext(3) (body).
+/// Calibration variables follow the IMU block; clones (oldest first) follow those.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "vio_core/measurements.h"
+
+namespace vid {
+
+/// @brief Column offsets inside the IMU error block.
+namespace imu_idx {
+constexpr int kTheta = 0;
+constexpr int kP = 3;
+constexpr int kV = 6;
+constexpr int kBg = 9;
+constexpr int kBa = 12;
+constexpr int kF = 15;  ///< only in dynamics mode
+}  // namespace imu_idx
+
+/// @brief Mean of the IMU block.
+struct ImuState {
+  Eigen::Quaterniond q_WI = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d p_WI = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_WI = Eigen::Vector3d::Zero();
+  Eigen::Vector3d b_g = Eigen::Vector3d::Zero();
+  Eigen::Vector3d b_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d F_ext_I = Eigen::Vector3d::Zero();  ///< mass-normalized external force, body
+};
+
+/// @brief First estimates of the IMU pose/velocity (the value the state had when it was first
+/// propagated to the current time; used for observability-consistent linearization).
+struct ImuFej {
+  Eigen::Quaterniond q_WI = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d p_WI = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_WI = Eigen::Vector3d::Zero();
+};
+
+/// @brief Stochastic clone of the IMU pose at a camera time.
+struct CloneState {
+  TimeNs t_ns = 0;
+  Eigen::Quaterniond q_WI = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d p_WI = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q_WI_fej = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d p_WI_fej = Eigen::Vector3d::Zero();
+  int cov_index = -1;  ///< column of [dtheta, dp] in P
+};
+
+/// @brief A calibration pose (e.g. camera extrinsic T_IC) estimated in the filter.
+struct CalibPose {
+  std::string name;
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  int cov_index = -1;  ///< column of [dtheta, dp] in P
+};
+
+/// @brief Result of a covariance health check.
+struct CovarianceHealth {
+  bool finite = true;
+  bool positive_definite = true;
+  double max_asymmetry = 0.0;  ///< max |P - P^T| before symmetrization
+};
+
+/// @brief IMU block + calibration + clones with one joint covariance.
+class FilterState {
+ public:
+  /// @param with_force true in dynamics mode (adds F_ext to the IMU block).
+  explicit FilterState(bool with_force = true);
+
+  /// @brief Reset to one IMU block with the given mean and covariance (no clones, no calib).
+  void initialize(TimeNs t_ns, const ImuState& imu, const Eigen::MatrixXd& P_imu);
+
+  bool with_force() const { return with_force_; }
+  int imu_dim() const { return with_force_ ? 18 : 15; }
+  int dim() const { return static_cast<int>(P_.rows()); }
+  TimeNs time() const { return t_ns_; }
+  void set_time(TimeNs t) { t_ns_ = t; }
+
+  ImuState& imu() { return imu_; }
+  const ImuState& imu() const { return imu_; }
+  ImuFej& imu_fej() { return imu_fej_; }
+  const ImuFej& imu_fej() const { return imu_fej_; }
+  /// @brief Set the IMU first estimates to the current mean (FEJ off, or after init).
+  void reset_imu_fej();
+
+  const std::deque<CloneState>& clones() const { return clones_; }
+  const std::vector<CalibPose>& calib_poses() const { return calib_; }
+
+  Eigen::MatrixXd& P() { return P_; }
+  const Eigen::MatrixXd& P() const { return P_; }
+
+  /// @brief Add a clone of the current IMU pose at the current time: P grows by 6 with the
+  /// clone fully correlated to the IMU pose. The clone's first estimate is the IMU's.
+  void augment_clone();
+  /// @brief Remove the oldest clone (marginalize: drop its rows/cols). No-op without clones.
+  void marginalize_oldest_clone();
+
+  /// @brief Add a calibration pose variable right after the IMU block (indices of later
+  /// variables shift). Returns its index in calib_poses().
+  int add_calib_pose(const std::string& name, const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
+                     double sigma_rot, double sigma_pos);
+
+  /// @brief Apply an error-state correction dx (size dim()): boxplus on rotations, + elsewhere.
+  void apply_correction(const Eigen::VectorXd& dx);
+
+  /// @brief Symmetrize P in place and report finiteness / positive definiteness (LLT, O(n^3)).
+  CovarianceHealth check_and_symmetrize();
+
+ private:
+  void insert_block(int at, const Eigen::MatrixXd& cov);
+
+  bool with_force_;
+  TimeNs t_ns_ = 0;
+  ImuState imu_;
+  ImuFej imu_fej_;
+  std::vector<CalibPose> calib_;
+  std::deque<CloneState> clones_;
+  Eigen::MatrixXd P_;
+};
+
+}  // namespace vid

@@ -1,0 +1,118 @@
+/// @file ekf_update.cpp
+/// @brief EKF updates exploiting measurement-Jacobian column sparsity.
+#include "vio_core/ekf_update.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <stdexcept>
+
+namespace vid {
+
+double chi2_quantile(int dof, double prob) {
+  static const double k95[] = {3.841, 5.991, 7.815, 9.488, 11.070,
+                               12.592, 14.067, 15.507, 16.919, 18.307};
+  static const double k99[] = {6.635, 9.210, 11.345, 13.277, 15.086,
+                               16.812, 18.475, 20.090, 21.666, 23.209};
+  if (dof <= 0) throw std::invalid_argument("chi2_quantile: dof must be > 0");
+  double z;
+  if (std::abs(prob - 0.95) < 1e-12) {
+    if (dof <= 10) return k95[dof - 1];
+    z = 1.6448536269514722;
+  } else if (std::abs(prob - 0.99) < 1e-12) {
+    if (dof <= 10) return k99[dof - 1];
+    z = 2.3263478740408408;
+  } else {
+    throw std::invalid_argument("chi2_quantile: only 0.95 and 0.99 are supported");
+  }
+  // Wilson-Hilferty: accurate to < 0.5% for dof > 10.
+  const double k = dof;
+  const double a = 2.0 / (9.0 * k);
+  const double c = 1.0 - a + z * std::sqrt(a);
+  return k * c * c * c;
+}
+
+UpdateResult ekf_update_columns(FilterState& state, const std::vector<int>& cols,
+                                const Eigen::MatrixXd& H_cols, const Eigen::VectorXd& r,
+                                const Eigen::MatrixXd& R, double chi2_threshold) {
+  UpdateResult res;
+  const int m = static_cast<int>(r.size());
+  if (m == 0) return res;
+  Eigen::MatrixXd& P = state.P();
+  const int n = state.dim();
+  const int k = static_cast<int>(cols.size());
+  // P H^T = P[:, cols] H_cols^T  (n x m)
+  Eigen::MatrixXd P_cols(n, k);
+  for (int j = 0; j < k; ++j) P_cols.col(j) = P.col(cols[j]);
+  const Eigen::MatrixXd PHt = P_cols * H_cols.transpose();
+  Eigen::MatrixXd HPHt(m, m);
+  {
+    Eigen::MatrixXd PHt_rows(k, m);
+    for (int j = 0; j < k; ++j) PHt_rows.row(j) = PHt.row(cols[j]);
+    HPHt = H_cols * PHt_rows;
+  }
+  const Eigen::MatrixXd S = 0.5 * (HPHt + HPHt.transpose()) + R;
+  Eigen::LLT<Eigen::MatrixXd> llt(S);
+  if (llt.info() != Eigen::Success) return res;
+  res.chi2 = r.dot(llt.solve(r));
+  res.threshold = chi2_threshold;
+  if (chi2_threshold > 0.0 && !(res.chi2 <= chi2_threshold)) return res;
+  // K = PHt S^-1
+  const Eigen::MatrixXd K = llt.solve(PHt.transpose()).transpose();
+  state.apply_correction(K * r);
+  P.noalias() -= K * PHt.transpose();
+  Eigen::MatrixXd sym = 0.5 * (P + P.transpose());
+  P.swap(sym);
+  res.applied = true;
+  return res;
+}
+
+UpdateResult ekf_update(FilterState& state, const Eigen::MatrixXd& H, const Eigen::VectorXd& r,
+                        const Eigen::MatrixXd& R, double chi2_threshold) {
+  if (H.cols() != state.dim() || H.rows() != r.size() || R.rows() != r.size()) {
+    throw std::invalid_argument("ekf_update: H is " + std::to_string(H.rows()) + "x" +
+                                std::to_string(H.cols()) + ", r has " +
+                                std::to_string(r.size()) + " rows, state dim " +
+                                std::to_string(state.dim()));
+  }
+  std::vector<int> cols;
+  for (int j = 0; j < H.cols(); ++j) {
+    if (H.col(j).cwiseAbs().maxCoeff() > 0.0) cols.push_back(j);
+  }
+  Eigen::MatrixXd H_cols(H.rows(), static_cast<int>(cols.size()));
+  for (std::size_t j = 0; j < cols.size(); ++j) H_cols.col(static_cast<int>(j)) = H.col(cols[j]);
+  return ekf_update_columns(state, cols, H_cols, r, R, chi2_threshold);
+}
+
+Eigen::Vector3d predict_accel(const ImuState& x, const Eigen::Vector3d& T_m) {
+  return T_m + x.F_ext_I + x.b_a;
+}
+
+UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
+                          double noise_var, double chi2_threshold) {
+  if (!state.with_force()) throw std::logic_error("accel_update needs the F_ext state (dynamics mode)");
+  UpdateResult res;
+  Eigen::MatrixXd& P = state.P();
+  const int n = state.dim();
+  // H = [.. I(b_a) .. I(F) ..] => P H^T = P[:, ba] + P[:, F]; S = H P H^T + R.
+  Eigen::Matrix<double, Eigen::Dynamic, 3> PHt =
+      P.middleCols<3>(imu_idx::kBa) + P.middleCols<3>(imu_idx::kF);
+  Eigen::Matrix3d S = PHt.middleRows<3>(imu_idx::kBa) + PHt.middleRows<3>(imu_idx::kF);
+  S = 0.5 * (S + S.transpose()).eval();
+  S.diagonal().array() += noise_var;
+  const Eigen::Vector3d r = a_m - predict_accel(state.imu(), T_m);
+  Eigen::LLT<Eigen::Matrix3d> llt(S);
+  if (llt.info() != Eigen::Success) return res;
+  res.chi2 = r.dot(llt.solve(r));
+  res.threshold = chi2_threshold;
+  if (chi2_threshold > 0.0 && !(res.chi2 <= chi2_threshold)) return res;
+  const Eigen::Matrix<double, Eigen::Dynamic, 3> K = llt.solve(PHt.transpose()).transpose();
+  state.apply_correction(K * r);
+  // P -= K PHt^T, keeping exact symmetry by updating the lower triangle and mirroring.
+  P.triangularView<Eigen::Lower>() -= K * PHt.transpose();
+  P.triangularView<Eigen::StrictlyUpper>() = P.transpose().triangularView<Eigen::StrictlyUpper>();
+  (void)n;
+  res.applied = true;
+  return res;
+}
+
+}  // namespace vid

@@ -1,0 +1,174 @@
+/// @file propagation.cpp
+/// @brief Mean propagation (closed-form rotation + RK4 translation) and its exact Jacobians.
+#include "vio_core/propagation.h"
+
+#include <cmath>
+
+#include "vio_core/so3.h"
+
+namespace vid {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+// Body-frame acceleration drive at the three RK4 stage times (s = 0, dt/2, dt).
+struct Drive {
+  Vector3d a[3];
+};
+
+Drive body_drive(const ImuState& x, const ImuInterval& u, PropagationMode mode,
+                 const DiscreteNoise& n) {
+  Drive d;
+  const Vector3d mid = 0.5 * (u.drive0 + u.drive1);
+  const Vector3d raw[3] = {u.drive0, mid, u.drive1};
+  for (int i = 0; i < 3; ++i) {
+    if (mode == PropagationMode::kImu) {
+      d.a[i] = raw[i] - x.b_a - n.n_a;
+    } else {
+      d.a[i] = raw[i] + x.F_ext_I + n.n_a;
+    }
+  }
+  return d;
+}
+
+Vector3d mid_rate(const ImuState& x, const ImuInterval& u, const DiscreteNoise& n) {
+  return 0.5 * (u.gyro0 + u.gyro1) - x.b_g - n.n_g;
+}
+
+constexpr double kStage[3] = {0.0, 0.5, 1.0};
+
+}  // namespace
+
+ImuState propagate_mean(const ImuState& x, const ImuInterval& u, PropagationMode mode,
+                        const Vector3d& g_W, const DiscreteNoise& noise) {
+  const double dt = u.dt;
+  const Vector3d w = mid_rate(x, u, noise);
+  const Drive d = body_drive(x, u, mode, noise);
+  const Matrix3d R_k = x.q_WI.toRotationMatrix();
+  Vector3d f[3];
+  for (int i = 0; i < 3; ++i) {
+    f[i] = R_k * (so3::exp(w * (kStage[i] * dt)) * d.a[i]) + g_W;
+  }
+  ImuState y = x;
+  y.q_WI = so3::boxplus(x.q_WI, w * dt);
+  y.v_WI = x.v_WI + dt / 6.0 * (f[0] + 4.0 * f[1] + f[2]);
+  y.p_WI = x.p_WI + x.v_WI * dt + dt * dt / 6.0 * (f[0] + 2.0 * f[1]);
+  y.b_g = x.b_g + noise.w_g;
+  y.b_a = x.b_a + noise.w_a;
+  if (mode == PropagationMode::kDynamics) y.F_ext_I = x.F_ext_I + noise.w_F;
+  return y;
+}
+
+void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuState& x_k1,
+                           const ImuInterval& u, PropagationMode mode, const Vector3d& g_W,
+                           Eigen::MatrixXd* Phi_out, Eigen::MatrixXd* G_out) {
+  namespace ix = imu_idx;
+  const bool dyn = mode == PropagationMode::kDynamics;
+  const int d = dyn ? 18 : 15;
+  const int nn = dyn ? 15 : 12;
+  const double dt = u.dt;
+  const Vector3d w = mid_rate(x_k, u, DiscreteNoise{});
+  const Drive drv = body_drive(x_k, u, mode, DiscreteNoise{});
+  const Matrix3d R_k = x_k.q_WI.toRotationMatrix();
+  const Matrix3d R_k_fej = fej_k.q_WI.toRotationMatrix();
+  const Matrix3d R_k1 = x_k1.q_WI.toRotationMatrix();  // first estimate of t_{k+1}
+
+  Eigen::MatrixXd& Phi = *Phi_out;
+  Phi.setIdentity(d, d);
+  // Orientation: dtheta_{k+1} = R_{k+1}^T R_k dtheta_k - Jr(w dt) dt db_g  (FEJ rotations).
+  Phi.block<3, 3>(ix::kTheta, ix::kTheta) = R_k1.transpose() * R_k_fej;
+  const Matrix3d Jr_dt = so3::right_jacobian(w * dt) * dt;
+  Phi.block<3, 3>(ix::kTheta, ix::kBg) = -Jr_dt;
+  // Position/velocity vs orientation in the "global difference" form, which equals the exact
+  // Jacobian -R_k [sum w_i dR_i a_i]x when the first estimates equal the current estimate.
+  const Vector3d dv = x_k1.v_WI - fej_k.v_WI - g_W * dt;
+  const Vector3d dp = x_k1.p_WI - fej_k.p_WI - fej_k.v_WI * dt - 0.5 * g_W * dt * dt;
+  Phi.block<3, 3>(ix::kV, ix::kTheta) = -so3::skew(dv) * R_k_fej;
+  Phi.block<3, 3>(ix::kP, ix::kTheta) = -so3::skew(dp) * R_k_fej;
+  Phi.block<3, 3>(ix::kP, ix::kV) = Matrix3d::Identity() * dt;
+
+  // Bias / force columns: sensitivities of the stage accelerations f_i.
+  Matrix3d Bg[3];  // d f_i / d b_g
+  Matrix3d Ba[3];  // d f_i / d (drive offset): -dR for imu b_a, +dR for dynamics F_ext
+  for (int i = 0; i < 3; ++i) {
+    const double s = kStage[i] * dt;
+    const Matrix3d dR = so3::exp(w * s);
+    Bg[i] = R_k * dR * so3::skew(drv.a[i]) * so3::right_jacobian(w * s) * s;
+    Ba[i] = R_k * dR;
+  }
+  const Matrix3d v_bg = dt / 6.0 * (Bg[0] + 4.0 * Bg[1] + Bg[2]);
+  const Matrix3d p_bg = dt * dt / 6.0 * (Bg[0] + 2.0 * Bg[1]);
+  const Matrix3d v_a = dt / 6.0 * (Ba[0] + 4.0 * Ba[1] + Ba[2]);
+  const Matrix3d p_a = dt * dt / 6.0 * (Ba[0] + 2.0 * Ba[1]);
+  Phi.block<3, 3>(ix::kV, ix::kBg) = v_bg;
+  Phi.block<3, 3>(ix::kP, ix::kBg) = p_bg;
+  if (dyn) {
+    Phi.block<3, 3>(ix::kV, ix::kF) = v_a;
+    Phi.block<3, 3>(ix::kP, ix::kF) = p_a;
+  } else {
+    Phi.block<3, 3>(ix::kV, ix::kBa) = -v_a;
+    Phi.block<3, 3>(ix::kP, ix::kBa) = -p_a;
+  }
+
+  Eigen::MatrixXd& G = *G_out;
+  G.setZero(d, nn);
+  // Gyro noise enters exactly like a gyro-bias error held over the interval.
+  G.block<3, 3>(ix::kTheta, noise_idx::kNg) = -Jr_dt;
+  G.block<3, 3>(ix::kV, noise_idx::kNg) = v_bg;
+  G.block<3, 3>(ix::kP, noise_idx::kNg) = p_bg;
+  // Accel noise (imu: like -b_a) or thrust noise (dynamics: like +F_ext).
+  const double sgn = dyn ? 1.0 : -1.0;
+  G.block<3, 3>(ix::kV, noise_idx::kNa) = sgn * v_a;
+  G.block<3, 3>(ix::kP, noise_idx::kNa) = sgn * p_a;
+  G.block<3, 3>(ix::kBg, noise_idx::kWg).setIdentity();
+  G.block<3, 3>(ix::kBa, noise_idx::kWa).setIdentity();
+  if (dyn) G.block<3, 3>(ix::kF, noise_idx::kWF).setIdentity();
+}
+
+Eigen::VectorXd discrete_noise_variances(const EstimatorParams& p, double dt, double noise_scale,
+                                         double thrust_noise_scale) {
+  const bool dyn = p.mode == PropagationMode::kDynamics;
+  Eigen::VectorXd q(dyn ? 15 : 12);
+  const double s2 = noise_scale * noise_scale;
+  // Held white noise of density sigma over dt has variance sigma^2 / dt.
+  q.segment<3>(noise_idx::kNg).setConstant(s2 * p.gyro_noise_density * p.gyro_noise_density / dt);
+  const double na = dyn ? thrust_noise_scale * p.thrust_noise_density : p.accel_noise_density;
+  q.segment<3>(noise_idx::kNa).setConstant(s2 * na * na / dt);
+  // Random-walk increments have variance sigma^2 dt.
+  q.segment<3>(noise_idx::kWg).setConstant(p.gyro_random_walk * p.gyro_random_walk * dt);
+  q.segment<3>(noise_idx::kWa).setConstant(p.accel_random_walk * p.accel_random_walk * dt);
+  if (dyn) q.segment<3>(noise_idx::kWF).setConstant(p.force_random_walk * p.force_random_walk * dt);
+  return q;
+}
+
+void propagate(FilterState& state, const ImuInterval& u, const EstimatorParams& params,
+               double noise_scale, double thrust_noise_scale) {
+  const Vector3d g_W(0.0, 0.0, -params.gravity);
+  if (!params.use_fej) state.reset_imu_fej();
+  const ImuState x_k = state.imu();
+  const ImuState x_k1 = propagate_mean(x_k, u, params.mode, g_W);
+  Eigen::MatrixXd Phi, G;
+  propagation_jacobians(x_k, state.imu_fej(), x_k1, u, params.mode, g_W, &Phi, &G);
+  const Eigen::VectorXd q = discrete_noise_variances(params, u.dt, noise_scale, thrust_noise_scale);
+
+  Eigen::MatrixXd& P = state.P();
+  const int d = state.imu_dim();
+  const int n = state.dim();
+  // IMU block and its cross-covariances with everything else (clones, calibration).
+  Eigen::MatrixXd P_ii = Phi * P.topLeftCorner(d, d) * Phi.transpose();
+  P_ii.noalias() += G * q.asDiagonal() * G.transpose();
+  P.topLeftCorner(d, d) = 0.5 * (P_ii + P_ii.transpose());
+  if (n > d) {
+    const Eigen::MatrixXd P_ir = Phi * P.topRightCorner(d, n - d);
+    P.topRightCorner(d, n - d) = P_ir;
+    P.bottomLeftCorner(n - d, d) = P_ir.transpose();
+  }
+  state.imu() = x_k1;
+  state.imu().q_WI = so3::normalized(x_k1.q_WI);
+  // The freshly propagated value is the first estimate at the new time.
+  state.reset_imu_fej();
+  state.set_time(state.time() + static_cast<TimeNs>(std::llround(u.dt * 1e9)));
+}
+
+}  // namespace vid

@@ -1,0 +1,142 @@
+/// @file state.cpp
+/// @brief Covariance bookkeeping: augmentation, marginalization, corrections, health.
+#include "vio_core/state.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <stdexcept>
+
+#include "vio_core/so3.h"
+
+namespace vid {
+
+FilterState::FilterState(bool with_force) : with_force_(with_force) {
+  P_ = Eigen::MatrixXd::Identity(imu_dim(), imu_dim());
+}
+
+void FilterState::initialize(TimeNs t_ns, const ImuState& imu, const Eigen::MatrixXd& P_imu) {
+  if (P_imu.rows() != imu_dim() || P_imu.cols() != imu_dim()) {
+    throw std::invalid_argument("FilterState::initialize: P_imu must be " +
+                                std::to_string(imu_dim()) + "x" + std::to_string(imu_dim()));
+  }
+  t_ns_ = t_ns;
+  imu_ = imu;
+  imu_.q_WI = so3::normalized(imu.q_WI);
+  if (!with_force_) imu_.F_ext_I.setZero();
+  calib_.clear();
+  clones_.clear();
+  P_ = P_imu;
+  reset_imu_fej();
+}
+
+void FilterState::reset_imu_fej() {
+  imu_fej_.q_WI = imu_.q_WI;
+  imu_fej_.p_WI = imu_.p_WI;
+  imu_fej_.v_WI = imu_.v_WI;
+}
+
+void FilterState::augment_clone() {
+  const int n = dim();
+  // New rows/cols are copies of the IMU pose rows/cols (J = selection of dtheta, dp).
+  Eigen::MatrixXd P_new(n + 6, n + 6);
+  P_new.topLeftCorner(n, n) = P_;
+  P_new.block(0, n, n, 6) = P_.middleCols(imu_idx::kTheta, 6);
+  P_new.block(n, 0, 6, n) = P_.middleRows(imu_idx::kTheta, 6);
+  P_new.block(n, n, 6, 6) = P_.block(imu_idx::kTheta, imu_idx::kTheta, 6, 6);
+  P_.swap(P_new);
+
+  CloneState c;
+  c.t_ns = t_ns_;
+  c.q_WI = imu_.q_WI;
+  c.p_WI = imu_.p_WI;
+  c.q_WI_fej = imu_fej_.q_WI;
+  c.p_WI_fej = imu_fej_.p_WI;
+  c.cov_index = n;
+  clones_.push_back(c);
+}
+
+void FilterState::marginalize_oldest_clone() {
+  if (clones_.empty()) return;
+  const int idx = clones_.front().cov_index;
+  const int n = dim();
+  const int tail = n - idx - 6;
+  Eigen::MatrixXd P_new(n - 6, n - 6);
+  P_new.topLeftCorner(idx, idx) = P_.topLeftCorner(idx, idx);
+  P_new.topRightCorner(idx, tail) = P_.topRightCorner(idx, tail);
+  P_new.bottomLeftCorner(tail, idx) = P_.bottomLeftCorner(tail, idx);
+  P_new.bottomRightCorner(tail, tail) = P_.bottomRightCorner(tail, tail);
+  P_.swap(P_new);
+  clones_.pop_front();
+  for (CloneState& c : clones_) {
+    if (c.cov_index > idx) c.cov_index -= 6;
+  }
+}
+
+void FilterState::insert_block(int at, const Eigen::MatrixXd& cov) {
+  const int n = dim();
+  const int k = static_cast<int>(cov.rows());
+  const int tail = n - at;
+  Eigen::MatrixXd P_new = Eigen::MatrixXd::Zero(n + k, n + k);
+  P_new.topLeftCorner(at, at) = P_.topLeftCorner(at, at);
+  P_new.topRightCorner(at, tail) = P_.topRightCorner(at, tail);
+  P_new.bottomLeftCorner(tail, at) = P_.bottomLeftCorner(tail, at);
+  P_new.bottomRightCorner(tail, tail) = P_.bottomRightCorner(tail, tail);
+  P_new.block(at, at, k, k) = cov;
+  P_.swap(P_new);
+}
+
+int FilterState::add_calib_pose(const std::string& name, const Eigen::Quaterniond& q,
+                                const Eigen::Vector3d& p, double sigma_rot, double sigma_pos) {
+  int at = imu_dim();
+  for (const CalibPose& c : calib_) at = std::max(at, c.cov_index + 6);
+  Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(6, 6);
+  cov.topLeftCorner<3, 3>().diagonal().setConstant(sigma_rot * sigma_rot);
+  cov.bottomRightCorner<3, 3>().diagonal().setConstant(sigma_pos * sigma_pos);
+  insert_block(at, cov);
+  for (CloneState& c : clones_) c.cov_index += 6;
+  CalibPose cp;
+  cp.name = name;
+  cp.q = so3::normalized(q);
+  cp.p = p;
+  cp.cov_index = at;
+  calib_.push_back(cp);
+  return static_cast<int>(calib_.size()) - 1;
+}
+
+void FilterState::apply_correction(const Eigen::VectorXd& dx) {
+  if (dx.size() != dim()) {
+    throw std::invalid_argument("FilterState::apply_correction: size " + std::to_string(dx.size()) +
+                                " != state dimension " + std::to_string(dim()));
+  }
+  imu_.q_WI = so3::boxplus(imu_.q_WI, dx.segment<3>(imu_idx::kTheta));
+  imu_.p_WI += dx.segment<3>(imu_idx::kP);
+  imu_.v_WI += dx.segment<3>(imu_idx::kV);
+  imu_.b_g += dx.segment<3>(imu_idx::kBg);
+  imu_.b_a += dx.segment<3>(imu_idx::kBa);
+  if (with_force_) imu_.F_ext_I += dx.segment<3>(imu_idx::kF);
+  for (CalibPose& c : calib_) {
+    c.q = so3::boxplus(c.q, dx.segment<3>(c.cov_index));
+    c.p += dx.segment<3>(c.cov_index + 3);
+  }
+  for (CloneState& c : clones_) {
+    c.q_WI = so3::boxplus(c.q_WI, dx.segment<3>(c.cov_index));
+    c.p_WI += dx.segment<3>(c.cov_index + 3);
+  }
+}
+
+CovarianceHealth FilterState::check_and_symmetrize() {
+  CovarianceHealth h;
+  h.finite = P_.allFinite();
+  if (!h.finite) {
+    h.positive_definite = false;
+    return h;
+  }
+  h.max_asymmetry = (P_ - P_.transpose()).cwiseAbs().maxCoeff();
+  Eigen::MatrixXd sym = 0.5 * (P_ + P_.transpose());  // temporary: transpose aliases
+  P_.swap(sym);
+  Eigen::LLT<Eigen::MatrixXd> llt(P_);
+  h.positive_definite = (llt.info() == Eigen::Success);
+  return h;
+}
+
+}  // namespace vid
