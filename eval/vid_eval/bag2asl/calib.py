@@ -9,7 +9,8 @@ import numpy as np
 import yaml
 
 from .errors import ConfigError
-from .sinks import _open_out, fmt, os_error
+from . import sinks
+from .sinks import fmt, os_error
 
 REPO = pathlib.Path(__file__).resolve().parents[3]
 DEFAULT_PRESET = REPO / "config" / "vid_dataset"
@@ -78,14 +79,14 @@ def mass_for(bag_path: pathlib.Path, flag: float | None, preset: Preset) -> tupl
     base = [float(g) for load, g in grams if not load]
     if base:
         total = base[0] + sum(float(g) for load, g in grams if load)
-        return round(total / 1000.0, 9), f"file name ({'+'.join(g + 'g' for _, g in grams)})"
+        return round(total / 1000.0, 9), f"file name ({'+'.join(load + g + 'g' for load, g in grams)})"
     return float(preset.vehicle["mass_kg"]), f"preset default ({preset.vehicle_path})"
 
 
 def _write_text(path: pathlib.Path, text: str) -> None:
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        with _open_out(path, "w") as f:
+        with sinks._open_out(path, "w") as f:
             f.write(text)
     except OSError as err:
         raise os_error(path, err) from None

@@ -14,7 +14,8 @@ from .errors import ConfigError, UnknownTypeError
 from .extract import ForceHandler, ImageHandler, ImuHandler, RotorHandler, ThrustHandler
 from .groundtruth import GroundTruthHandler
 from .progress import Progress
-from .sinks import _open_out, os_error
+from . import sinks
+from .sinks import os_error
 from . import topicmap
 
 # message types each kind accepts (others are reported as unsupported before any data is read)
@@ -187,7 +188,7 @@ def _summary(opts, profile, handlers, mass_kg, mass_source, wall, cpu, tmap) -> 
 
 def _write_summary(path: pathlib.Path, summary: dict) -> None:
     try:
-        with _open_out(path, "w") as f:
+        with sinks._open_out(path, "w") as f:
             yaml.safe_dump(summary, f, sort_keys=False)
     except OSError as err:
         raise os_error(path, err) from None
