@@ -11,10 +11,10 @@ from ..tables import build_table, to_latex, to_markdown
 
 def add_parser(sub) -> None:
     """Register the ``report`` sub-command."""
-    p = sub.add_parser("report", help="tables over runs (sequence x method, value, decrease %)",
+    p = sub.add_parser("report", help="tables over runs (sequence x method, value, decrease %%)",
                        description="Collect metrics from run folders / JSON files and print one "
                                    "table per metric: rows are sequences, columns methods, plus "
-                                   "the decrease in %% of each method relative to --baseline.")
+                                   "the decrease in % of each method relative to --baseline.")
     p.add_argument("runs", nargs="+", help="run folders (holding summary.json / vid-eval JSON) or JSON files")
     p.add_argument("--metric", action="append", default=None, metavar="NAME|KEY.PATH",
                    help=f"metrics to tabulate: {', '.join(METRICS)} or any dotted JSON key "
