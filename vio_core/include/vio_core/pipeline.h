@@ -1,0 +1,150 @@
+#pragma once
+/// @file pipeline.h
+/// @brief The estimator pipeline: consumes time-ordered measurements (IMU, rotor speeds or
+/// thrust, feature frames; ground truth only with InitMode::kGroundTruth), runs
+/// initialization, propagation, accelerometer updates, MSCKF visual updates and clone
+/// marginalization, and emits IMU-rate estimates plus per-frame stage timings.
+/// Single-threaded and deterministic (timings aside).
+///
+/// Stream handling (documented behaviour):
+/// * dynamics mode: an IMU sample is processed once thrust is known at its time (a rotor or
+///   thrust sample at or after it), or once the stream has moved rotor_gap_s past it; then
+///   the last thrust is held and the thrust noise is inflated by rotor_gap_noise_scale
+///   (counted in PipelineCounters::rotor_gap_samples).
+/// * IMU gap (step > imu_gap_s): the interval is integrated in sub-steps of at most 10 ms
+///   with inputs interpolated linearly between the samples around the gap and all IMU/thrust
+///   noises inflated by imu_gap_noise_scale (counted in imu_gaps).
+/// * camera dropout: nothing special; propagation and accelerometer updates continue.
+/// * frames are processed when the IMU has reached their time (inputs interpolated).
+
+#include <Eigen/Core>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vio_core/calibration.h"
+#include "vio_core/estimator_params.h"
+#include "vio_core/initializer.h"
+#include "vio_core/measurements.h"
+#include "vio_core/state.h"
+#include "vio_core/thrust_buffer.h"
+
+namespace vid {
+namespace msckf {
+class FeatureDatabase;
+}
+
+/// @brief Filter health.
+enum class FilterStatus { kWaitingForInit, kOk, kDiverged };
+/// @brief "waiting_for_init" / "ok" / "diverged".
+std::string to_string(FilterStatus s);
+
+/// @brief Everything the pipeline needs besides the measurements.
+struct PipelineConfig {
+  EstimatorParams params;
+  VehicleParams vehicle;              ///< mass and rotor thrust coefficients (dynamics mode)
+  std::vector<CameraCalib> cameras;   ///< by cam_id (T_IC, intrinsics for the pixel noise)
+};
+
+/// @brief One IMU-rate estimate.
+struct EstimateOutput {
+  TimeNs t_ns = 0;
+  ImuState x;
+  Eigen::VectorXd sigma;  ///< 1-sigma of the IMU error block (15 or 18)
+  Eigen::Matrix3d cov_theta, cov_p, cov_F;  ///< for consistency checks (cov_F zero in imu mode)
+  FilterStatus status = FilterStatus::kOk;
+};
+
+/// @brief Stage times of one camera frame [ms] (propagation and accelerometer updates are
+/// accumulated since the previous frame).
+struct FrameTimings {
+  TimeNs t_ns = 0;
+  double propagation_ms = 0.0;
+  double accel_update_ms = 0.0;
+  double msckf_update_ms = 0.0;
+  double marginalization_ms = 0.0;
+  int features_used = 0;
+  int features_rejected = 0;
+  int clones = 0;
+};
+
+/// @brief Event counters.
+struct PipelineCounters {
+  long imu_samples = 0;
+  long accel_updates = 0;
+  long accel_rejected = 0;
+  long rotor_gap_samples = 0;  ///< IMU samples propagated with held thrust
+  long imu_gaps = 0;
+  long frames = 0;
+  long frames_skipped = 0;      ///< frames before init or behind the filter time
+  long visual_updates = 0;
+  long features_used = 0;
+  long features_rejected = 0;
+  long observations_without_norm = 0;
+};
+
+/// @brief The estimator.
+class Pipeline {
+ public:
+  explicit Pipeline(PipelineConfig config);
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  void set_estimate_callback(std::function<void(const EstimateOutput&)> cb) { on_estimate_ = std::move(cb); }
+  void set_frame_callback(std::function<void(const FrameTimings&)> cb) { on_frame_ = std::move(cb); }
+
+  /// @brief Feed the next measurement (non-decreasing time). Ground truth, force, mass and
+  /// image measurements are ignored (ground truth is used only by InitMode::kGroundTruth).
+  void push(const Measurement& m);
+  /// @brief Process everything still queued (end of stream).
+  void finish();
+
+  /// @brief Initialize explicitly (e.g. from ground truth); replaces any running state.
+  void initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu);
+
+  FilterStatus status() const { return status_; }
+  const std::string& status_message() const { return status_message_; }
+  const FilterState& state() const { return state_; }
+  const PipelineCounters& counters() const { return counters_; }
+  const PipelineConfig& config() const { return config_; }
+
+ private:
+  struct ImuInput {
+    TimeNs t;
+    Eigen::Vector3d gyro, accel, T_m;
+    bool thrust_held;
+  };
+  void on_imu(const ImuSample& s);
+  void drain(bool force);
+  void process_imu(const ImuInput& in);
+  void integrate_to(const ImuInput& a, const ImuInput& b, TimeNs t_end, double noise_scale,
+                    double thrust_scale);
+  void process_frame(const FeatureFrame& f);
+  void check_divergence(bool full);
+  void emit(TimeNs t);
+  ImuInput interpolate(const ImuInput& a, const ImuInput& b, TimeNs t) const;
+
+  PipelineConfig config_;
+  FilterState state_;
+  StaticInitializer initializer_;
+  ThrustBuffer thrust_;
+  std::unique_ptr<msckf::FeatureDatabase> features_;
+  std::deque<ImuSample> imu_queue_;
+  std::deque<FeatureFrame> frame_queue_;
+  std::optional<ImuInput> last_input_;
+  std::optional<GroundTruthSample> last_gt_;
+  std::optional<Eigen::Vector3d> last_force_W_;
+  TimeNs stream_time_ = INT64_MIN;
+  FilterStatus status_ = FilterStatus::kWaitingForInit;
+  std::string status_message_ = "waiting for initialization";
+  PipelineCounters counters_;
+  FrameTimings pending_timings_;
+  std::function<void(const EstimateOutput&)> on_estimate_;
+  std::function<void(const FrameTimings&)> on_frame_;
+};
+
+}  // namespace vid

@@ -1,0 +1,96 @@
+/// @file initializer.cpp
+/// @brief Static / hover initialization.
+#include "vio_core/initializer.h"
+
+#include <cmath>
+
+#include "vio_core/so3.h"
+
+namespace vid {
+
+Eigen::Quaterniond gravity_aligned_orientation(const Eigen::Vector3d& f_I) {
+  // Body z expressed in W must map f_I to +z_W; build R_WI rows: the world z axis in body
+  // coordinates is f_I normalized; pick world x as body x projected orthogonally (yaw 0).
+  const Eigen::Vector3d z_in_I = f_I.normalized();
+  Eigen::Vector3d x_in_I = Eigen::Vector3d::UnitX() - z_in_I.x() * z_in_I;
+  if (x_in_I.norm() < 1e-6) x_in_I = Eigen::Vector3d::UnitY() - z_in_I.y() * z_in_I;
+  x_in_I.normalize();
+  const Eigen::Vector3d y_in_I = z_in_I.cross(x_in_I);
+  Eigen::Matrix3d R_IW;
+  R_IW.col(0) = x_in_I;
+  R_IW.col(1) = y_in_I;
+  R_IW.col(2) = z_in_I;
+  return so3::normalized(Eigen::Quaterniond(R_IW.transpose()));
+}
+
+Eigen::MatrixXd initial_covariance(const EstimatorParams& p, const Eigen::Quaterniond& q_WI) {
+  const bool dyn = p.mode == PropagationMode::kDynamics;
+  const int d = dyn ? 18 : 15;
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(d, d);
+  // World-frame orientation covariance diag(rp, rp, yaw) -> body right perturbation R^T C R.
+  const Eigen::Matrix3d R = q_WI.toRotationMatrix();
+  const Eigen::Vector3d s(p.init_sigma_roll_pitch, p.init_sigma_roll_pitch, p.init_sigma_yaw);
+  P.block<3, 3>(imu_idx::kTheta, imu_idx::kTheta) =
+      R.transpose() * s.cwiseAbs2().asDiagonal() * R;
+  P.block<3, 3>(imu_idx::kP, imu_idx::kP).diagonal().setConstant(std::pow(p.init_sigma_position, 2));
+  P.block<3, 3>(imu_idx::kV, imu_idx::kV).diagonal().setConstant(std::pow(p.init_sigma_velocity, 2));
+  P.block<3, 3>(imu_idx::kBg, imu_idx::kBg).diagonal().setConstant(std::pow(p.init_sigma_gyro_bias, 2));
+  P.block<3, 3>(imu_idx::kBa, imu_idx::kBa).diagonal().setConstant(std::pow(p.init_sigma_accel_bias, 2));
+  if (dyn) {
+    P.block<3, 3>(imu_idx::kF, imu_idx::kF).diagonal().setConstant(std::pow(p.init_sigma_force, 2));
+  }
+  return P;
+}
+
+std::optional<InitResult> StaticInitializer::add(TimeNs t_ns, const Eigen::Vector3d& gyro,
+                                                 const Eigen::Vector3d& accel,
+                                                 const Eigen::Vector3d& T_m) {
+  window_.push_back({t_ns, gyro, accel, T_m});
+  const auto span = static_cast<TimeNs>(params_.init_window_s * 1e9);
+  while (window_.size() > 1 && window_.back().t - window_[1].t >= span) window_.pop_front();
+  if (window_.back().t - window_.front().t < span) return std::nullopt;
+
+  const double n = static_cast<double>(window_.size());
+  Eigen::Vector3d w_mean = Eigen::Vector3d::Zero(), a_mean = Eigen::Vector3d::Zero(),
+                  T_mean = Eigen::Vector3d::Zero();
+  for (const Sample& s : window_) {
+    w_mean += s.w / n;
+    a_mean += s.a / n;
+    T_mean += s.T / n;
+  }
+  double a_var = 0.0, w_var = 0.0;
+  for (const Sample& s : window_) {
+    a_var += (s.a - a_mean).squaredNorm() / n;
+    w_var += (s.w - w_mean).squaredNorm() / n;
+  }
+  const double g = params_.gravity;
+  if (std::sqrt(a_var) > params_.init_accel_std_max) {
+    reason_ = "accelerometer not still";
+    return std::nullopt;
+  }
+  if (std::sqrt(w_var) > params_.init_gyro_std_max) {
+    reason_ = "gyro not still";
+    return std::nullopt;
+  }
+  if (params_.mode == PropagationMode::kDynamics && a_mean.norm() < params_.init_freefall_thrust_ratio * g &&
+      T_mean.norm() < params_.init_freefall_thrust_ratio * g) {
+    reason_ = "free fall (no thrust, no specific force)";
+    return std::nullopt;
+  }
+  if (std::abs(a_mean.norm() - g) > params_.init_gravity_tolerance) {
+    reason_ = "vehicle accelerating (|a| differs from g)";
+    return std::nullopt;
+  }
+  InitResult r;
+  r.t_ns = window_.back().t;
+  r.x.q_WI = gravity_aligned_orientation(a_mean);
+  r.x.b_g = w_mean;
+  if (params_.mode == PropagationMode::kDynamics) {
+    // Hover: a ≈ T_m (F_ext ≈ 0); resting on ground: the support is an external force.
+    r.x.F_ext_I = a_mean - T_mean;
+  }
+  r.P = initial_covariance(params_, r.x.q_WI);
+  return r;
+}
+
+}  // namespace vid

@@ -1,0 +1,340 @@
+/// @file pipeline.cpp
+/// @brief Measurement scheduling, initialization, propagation, updates and marginalization.
+#include "vio_core/pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "vio_core/ekf_update.h"
+#include "vio_core/msckf/feature_database.h"
+#include "vio_core/msckf/visual_update.h"
+#include "vio_core/propagation.h"
+#include "vio_core/so3.h"
+#include "vio_core/thrust.h"
+
+namespace vid {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+constexpr TimeNs kMaxSubstepNs = 10'000'000;  // 10 ms sub-steps over IMU gaps
+constexpr TimeNs kGtInitToleranceNs = 20'000'000;
+
+TimeNs seconds_to_ns(double s) { return static_cast<TimeNs>(std::llround(s * 1e9)); }
+
+}  // namespace
+
+std::string to_string(FilterStatus s) {
+  switch (s) {
+    case FilterStatus::kWaitingForInit: return "waiting_for_init";
+    case FilterStatus::kOk: return "ok";
+    case FilterStatus::kDiverged: return "diverged";
+  }
+  return "unknown";
+}
+
+Pipeline::Pipeline(PipelineConfig config)
+    : config_(std::move(config)),
+      state_(config_.params.mode == PropagationMode::kDynamics),
+      initializer_(config_.params),
+      thrust_(seconds_to_ns(config_.params.rotor_gap_s)),
+      features_(std::make_unique<msckf::FeatureDatabase>()) {
+  if (config_.params.mode == PropagationMode::kDynamics && !(config_.vehicle.mass_kg > 0.0)) {
+    throw std::invalid_argument("dynamics mode needs vehicle mass_kg > 0");
+  }
+  if (config_.params.window_size < 2) throw std::invalid_argument("window_size must be >= 2");
+  std::sort(config_.cameras.begin(), config_.cameras.end(),
+            [](const CameraCalib& a, const CameraCalib& b) { return a.cam_id < b.cam_id; });
+}
+
+Pipeline::~Pipeline() = default;
+
+void Pipeline::push(const Measurement& m) {
+  stream_time_ = std::max(stream_time_, stamp_of(m));
+  if (const auto* imu = std::get_if<ImuSample>(&m)) {
+    imu_queue_.push_back(*imu);
+  } else if (const auto* rotor = std::get_if<RotorSample>(&m)) {
+    if (config_.params.mode == PropagationMode::kDynamics) {
+      thrust_.add(rotor->t_ns, collective_thrust(*rotor, config_.vehicle) / config_.vehicle.mass_kg);
+    }
+  } else if (const auto* thrust = std::get_if<ThrustSample>(&m)) {
+    if (config_.params.mode == PropagationMode::kDynamics) {
+      thrust_.add(thrust->t_ns, thrust->thrust_N / config_.vehicle.mass_kg);
+    }
+  } else if (const auto* frame = std::get_if<FeatureFrame>(&m)) {
+    frame_queue_.push_back(*frame);
+  } else if (const auto* gt = std::get_if<GroundTruthSample>(&m)) {
+    if (config_.params.init_mode == InitMode::kGroundTruth) last_gt_ = *gt;
+  } else if (const auto* force = std::get_if<ForceSample>(&m)) {
+    if (config_.params.init_mode == InitMode::kGroundTruth) last_force_W_ = force->f_W_N;
+  }
+  drain(false);
+}
+
+void Pipeline::finish() { drain(true); }
+
+void Pipeline::drain(bool force) {
+  const bool dyn = config_.params.mode == PropagationMode::kDynamics;
+  const TimeNs gap_ns = seconds_to_ns(config_.params.rotor_gap_s);
+  while (!imu_queue_.empty()) {
+    const ImuSample& s = imu_queue_.front();
+    ImuInput in{s.t_ns, s.gyro_I, s.accel_I, Eigen::Vector3d::Zero(), false};
+    if (dyn) {
+      const bool ready = thrust_.covers(s.t_ns) || force || stream_time_ - s.t_ns > gap_ns;
+      if (!ready) break;
+      const ThrustQuery q = thrust_.at(s.t_ns);
+      in.T_m = q.T_m;
+      in.thrust_held = q.held || !q.valid;
+      thrust_.prune_before(s.t_ns);
+    }
+    imu_queue_.pop_front();
+    process_imu(in);
+  }
+  if (force) {
+    // frames newer than the last IMU sample cannot be processed
+    counters_.frames_skipped += static_cast<long>(frame_queue_.size());
+    frame_queue_.clear();
+  }
+}
+
+void Pipeline::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu) {
+  state_.initialize(t_ns, x, P_imu);
+  features_ = std::make_unique<msckf::FeatureDatabase>();
+  status_ = FilterStatus::kOk;
+  status_message_ = "ok";
+}
+
+Pipeline::ImuInput Pipeline::interpolate(const ImuInput& a, const ImuInput& b, TimeNs t) const {
+  if (b.t == a.t) return b;
+  const double w = static_cast<double>(t - a.t) / static_cast<double>(b.t - a.t);
+  ImuInput r;
+  r.t = t;
+  r.gyro = (1.0 - w) * a.gyro + w * b.gyro;
+  r.accel = (1.0 - w) * a.accel + w * b.accel;
+  r.T_m = (1.0 - w) * a.T_m + w * b.T_m;
+  r.thrust_held = b.thrust_held;
+  return r;
+}
+
+void Pipeline::process_imu(const ImuInput& in) {
+  ++counters_.imu_samples;
+  const EstimatorParams& p = config_.params;
+  if (status_ == FilterStatus::kWaitingForInit) {
+    while (!frame_queue_.empty() && frame_queue_.front().t_ns <= in.t) {
+      frame_queue_.pop_front();
+      ++counters_.frames_skipped;
+    }
+    if (p.init_mode == InitMode::kGroundTruth) {
+      if (last_gt_ && std::llabs(last_gt_->t_ns - in.t) <= kGtInitToleranceNs) {
+        ImuState x;
+        x.q_WI = last_gt_->q_WI;
+        x.p_WI = last_gt_->p_WI;
+        x.v_WI = last_gt_->v_WI;
+        x.b_g = last_gt_->b_g;
+        x.b_a = last_gt_->b_a;
+        if (last_force_W_ && config_.vehicle.mass_kg > 0.0) {
+          x.F_ext_I = x.q_WI.conjugate() * (*last_force_W_ / config_.vehicle.mass_kg);
+        }
+        // Ground truth is taken at its own time; the small offset to t_in is ignored.
+        initialize(in.t, x, initial_covariance(p, x.q_WI));
+      }
+    } else if (auto r = initializer_.add(in.t, in.gyro, in.accel, in.T_m)) {
+      initialize(r->t_ns, r->x, r->P);
+    }
+    last_input_ = in;
+    if (status_ == FilterStatus::kOk) emit(in.t);
+    return;
+  }
+  if (status_ == FilterStatus::kDiverged) return;
+  if (in.t <= state_.time()) return;  // duplicate / out-of-order sample
+
+  ImuInput a = *last_input_;
+  const bool imu_gap = in.t - a.t > seconds_to_ns(p.imu_gap_s);
+  if (imu_gap) ++counters_.imu_gaps;
+  const double noise_scale = imu_gap ? p.imu_gap_noise_scale : 1.0;
+  const double thrust_scale = in.thrust_held ? p.rotor_gap_noise_scale : 1.0;
+  if (p.mode == PropagationMode::kDynamics && in.thrust_held) ++counters_.rotor_gap_samples;
+
+  while (!frame_queue_.empty() && frame_queue_.front().t_ns <= in.t) {
+    FeatureFrame f = std::move(frame_queue_.front());
+    frame_queue_.pop_front();
+    if (f.t_ns < state_.time()) {
+      ++counters_.frames_skipped;
+      continue;
+    }
+    integrate_to(a, in, f.t_ns, noise_scale, thrust_scale);
+    a = interpolate(a, in, f.t_ns);
+    process_frame(f);
+    if (status_ == FilterStatus::kDiverged) return;
+  }
+  integrate_to(a, in, in.t, noise_scale, thrust_scale);
+  last_input_ = in;
+
+  if (p.mode == PropagationMode::kDynamics && p.accel_update) {
+    const auto t0 = Clock::now();
+    const double noise_var = p.accel_noise_density * p.accel_noise_density * p.imu_rate_hz;
+    const double thr = p.accel_chi2_gating ? p.accel_chi2_multiplier * chi2_quantile(3, 0.99) : 0.0;
+    const UpdateResult res = accel_update(state_, in.accel, in.T_m, noise_var, thr);
+    if (res.applied) {
+      ++counters_.accel_updates;
+    } else {
+      ++counters_.accel_rejected;
+    }
+    pending_timings_.accel_update_ms += ms_since(t0);
+  }
+  check_divergence(false);
+  if (status_ == FilterStatus::kOk) emit(in.t);
+}
+
+void Pipeline::integrate_to(const ImuInput& a, const ImuInput& b, TimeNs t_end, double noise_scale,
+                            double thrust_scale) {
+  const TimeNs t0 = state_.time();
+  if (t_end <= t0) return;
+  const auto c0 = Clock::now();
+  const int steps = static_cast<int>((t_end - t0 + kMaxSubstepNs - 1) / kMaxSubstepNs);
+  ImuInput prev = interpolate(a, b, t0);
+  for (int i = 1; i <= steps; ++i) {
+    const TimeNs t = (i == steps) ? t_end : t0 + (t_end - t0) * i / steps;
+    const ImuInput next = interpolate(a, b, t);
+    ImuInterval u;
+    u.dt = static_cast<double>(t - prev.t) * 1e-9;
+    u.gyro0 = prev.gyro;
+    u.gyro1 = next.gyro;
+    const bool dyn = config_.params.mode == PropagationMode::kDynamics;
+    u.drive0 = dyn ? prev.T_m : prev.accel;
+    u.drive1 = dyn ? next.T_m : next.accel;
+    propagate(state_, u, config_.params, noise_scale, thrust_scale);
+    state_.set_time(t);
+    prev = next;
+  }
+  pending_timings_.propagation_ms += ms_since(c0);
+}
+
+void Pipeline::process_frame(const FeatureFrame& f) {
+  ++counters_.frames;
+  const EstimatorParams& p = config_.params;
+  const auto t_frame = Clock::now();
+  FrameTimings& tm = pending_timings_;
+  tm.t_ns = f.t_ns;
+
+  state_.augment_clone();
+  FeatureFrame usable;
+  usable.t_ns = f.t_ns;
+  usable.observations.reserve(f.observations.size());
+  for (const FeatureObservation& o : f.observations) {
+    if (!o.has_norm) {
+      ++counters_.observations_without_norm;
+      continue;
+    }
+    if (o.cam_id < 0 || o.cam_id >= static_cast<int>(config_.cameras.size())) continue;
+    if (!p.use_stereo && o.cam_id != 0) continue;
+    usable.observations.push_back(o);
+  }
+  features_->add(usable);
+
+  std::vector<msckf::ClonePose> clones;
+  clones.reserve(state_.clones().size());
+  for (const CloneState& c : state_.clones()) {
+    msckf::ClonePose cp;
+    cp.t_ns = c.t_ns;
+    cp.R_WI = c.q_WI.toRotationMatrix();
+    cp.R_WI_fej = c.q_WI_fej.toRotationMatrix();
+    cp.p_WI = c.p_WI;
+    cp.p_WI_fej = c.p_WI_fej;
+    cp.cov_index = c.cov_index;
+    clones.push_back(cp);
+  }
+  const bool window_full = static_cast<int>(clones.size()) > p.window_size;
+  std::vector<msckf::FeatureTrack> tracks = features_->select_for_update(clones, f.t_ns, window_full);
+  if (p.max_features_per_update > 0 && static_cast<int>(tracks.size()) > p.max_features_per_update) {
+    // keep the longest tracks (most constraints); ties by id for determinism
+    std::stable_sort(tracks.begin(), tracks.end(), [](const auto& a, const auto& b) {
+      if (a.obs.size() != b.obs.size()) return a.obs.size() > b.obs.size();
+      return a.feature_id < b.feature_id;
+    });
+    tracks.resize(static_cast<std::size_t>(p.max_features_per_update));
+  }
+  if (p.visual_update && !tracks.empty() && !config_.cameras.empty()) {
+    std::vector<msckf::CameraExtrinsic> extrinsics;
+    for (const CameraCalib& c : config_.cameras) {
+      msckf::CameraExtrinsic e;
+      e.T_IC = c.T_IC;
+      extrinsics.push_back(e);
+    }
+    const CameraCalib& c0 = config_.cameras.front();
+    msckf::VisualUpdateParams vp;
+    vp.sigma_norm = p.pixel_noise_px / (0.5 * (c0.intrinsics[0] + c0.intrinsics[1]));
+    vp.chi2_multiplier = p.chi2_multiplier;
+    vp.min_observations = p.min_track_length;
+    const msckf::VisualLinearSystem sys =
+        msckf::build_visual_update(tracks, clones, extrinsics, state_.P(), vp);
+    tm.features_used += sys.features_used;
+    tm.features_rejected += sys.features_rejected_chi2 + sys.features_rejected_triangulation;
+    counters_.features_used += sys.features_used;
+    counters_.features_rejected += sys.features_rejected_chi2 + sys.features_rejected_triangulation;
+    if (sys.H.rows() > 0) {
+      const Eigen::MatrixXd R =
+          Eigen::MatrixXd::Identity(sys.H.rows(), sys.H.rows()) * sys.noise_var;
+      if (ekf_update(state_, sys.H, sys.r, R).applied) ++counters_.visual_updates;
+    }
+  }
+  tm.msckf_update_ms = ms_since(t_frame);
+
+  const auto t_marg = Clock::now();
+  if (window_full) {
+    features_->remove_observations_at(state_.clones().front().t_ns);
+    state_.marginalize_oldest_clone();
+  }
+  tm.marginalization_ms = ms_since(t_marg);
+  tm.clones = static_cast<int>(state_.clones().size());
+  check_divergence(true);
+  if (on_frame_) on_frame_(tm);
+  pending_timings_ = FrameTimings{};
+}
+
+void Pipeline::check_divergence(bool full) {
+  const ImuState& x = state_.imu();
+  const EstimatorParams& p = config_.params;
+  std::string why;
+  const bool mean_finite = x.q_WI.coeffs().allFinite() && x.p_WI.allFinite() &&
+                           x.v_WI.allFinite() && x.b_g.allFinite() && x.b_a.allFinite() &&
+                           x.F_ext_I.allFinite();
+  const Eigen::VectorXd diag = state_.P().diagonal();
+  if (!mean_finite) {
+    why = "state mean is not finite";
+  } else if (x.v_WI.norm() > p.max_velocity) {
+    why = "velocity " + std::to_string(x.v_WI.norm()) + " m/s exceeds max_velocity";
+  } else if (!diag.allFinite() || diag.minCoeff() <= 0.0) {
+    why = "covariance diagonal not positive/finite";
+  } else if (std::sqrt(diag.segment<3>(imu_idx::kP).maxCoeff()) > p.max_position_sigma) {
+    why = "position sigma exceeds max_position_sigma";
+  } else if (full) {
+    const CovarianceHealth h = state_.check_and_symmetrize();
+    if (!h.finite || !h.positive_definite) why = "covariance not positive definite";
+  }
+  if (!why.empty()) {
+    status_ = FilterStatus::kDiverged;
+    status_message_ = why + " at t=" + std::to_string(state_.time()) + " ns";
+  }
+}
+
+void Pipeline::emit(TimeNs t) {
+  if (!on_estimate_) return;
+  EstimateOutput o;
+  o.t_ns = t;
+  o.x = state_.imu();
+  const int d = state_.imu_dim();
+  o.sigma = state_.P().topLeftCorner(d, d).diagonal().cwiseSqrt();
+  o.cov_theta = state_.P().block<3, 3>(imu_idx::kTheta, imu_idx::kTheta);
+  o.cov_p = state_.P().block<3, 3>(imu_idx::kP, imu_idx::kP);
+  o.cov_F = state_.with_force() ? Eigen::Matrix3d(state_.P().block<3, 3>(imu_idx::kF, imu_idx::kF))
+                                : Eigen::Matrix3d::Zero();
+  o.status = status_;
+  on_estimate_(o);
+}
+
+}  // namespace vid
