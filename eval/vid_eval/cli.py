@@ -42,6 +42,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     except ValueError as exc:  # argument values only detectable late (e.g. bad RPE length)
         print(f"vid-eval: error: {exc}", file=sys.stderr)
         return EXIT_INPUT_ERROR
+    except BrokenPipeError:  # output piped into e.g. `head`: not an error of ours
+        sys.stderr.close()
+        return 0
     except OSError as exc:
         print(f"vid-eval: error: {exc.filename or ''}: {exc.strerror}", file=sys.stderr)
         return EXIT_INPUT_ERROR

@@ -71,3 +71,26 @@ def write_state(path: pathlib.Path, t_ns, p, rot: Rotation, f_body,
         sig[:, 15:18] = sigma_f
     cols = np.hstack([p, q, np.zeros((n, 9)), f_body, sig])
     return write_csv(path, formats.header_line(formats.STATE_COLUMNS), t_ns, cols)
+
+
+class CliResult:
+    """Outcome of an in-process ``vid-eval`` call (same fields as subprocess.CompletedProcess)."""
+
+    def __init__(self, returncode: int, stdout: str, stderr: str) -> None:
+        self.returncode, self.stdout, self.stderr = returncode, stdout, stderr
+
+
+def run_cli_in_process(*args) -> CliResult:
+    """Run ``vid_eval.cli.main`` in this process (fast; the bad-input tests use a subprocess)."""
+    import contextlib
+    import io
+
+    from vid_eval.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            rc = main([str(a) for a in args])
+        except SystemExit as exc:  # argparse usage errors
+            rc = int(exc.code or 0)
+    return CliResult(rc, out.getvalue(), err.getvalue())

@@ -2,14 +2,12 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from eval_testdata import write_csv, write_euroc_gt, write_force_estimate, write_state
+from eval_testdata import run_cli_in_process, write_csv, write_euroc_gt, write_force_estimate, write_state
 from vid_eval.mass_metrics import rmspe
 
 MASS = 2.0
@@ -17,8 +15,7 @@ C_WORLD = np.array([0.1, -0.2, 0.3])  # constant estimate error in W [m/s^2]
 
 
 def _vid(*args):
-    return subprocess.run([sys.executable, "-m", "vid_eval.cli", *map(str, args)],
-                          capture_output=True, text=True)
+    return run_cli_in_process(*args)
 
 
 def _force_case(tmp_path, c_body=np.array([0.05, 0.0, -0.04])):

@@ -2,17 +2,16 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import pytest
+
+from eval_testdata import run_cli_in_process
 
 from vid_eval.runs import load_run
 
 
 def _vid(*args):
-    return subprocess.run([sys.executable, "-m", "vid_eval.cli", *map(str, args)],
-                          capture_output=True, text=True)
+    return run_cli_in_process(*args)
 
 
 @pytest.fixture

@@ -61,7 +61,7 @@ def plot_rpe(segments: Sequence[RpeSegment], out_dir: os.PathLike) -> Optional[P
     if not segs:
         return None
     fig, axes = new_figure(1, 2, width=11, height=4)
-    labels = [f"{s.distance:g}" for s in segs]
+    labels = [f"{s.distance:.3g}" for s in segs]
     axes[0].boxplot([s.trans_err for s in segs], showfliers=False)
     axes[0].set_xticks(range(1, len(segs) + 1), labels)
     axes[0].set_ylabel("translation error [m]")
