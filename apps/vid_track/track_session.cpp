@@ -1,0 +1,106 @@
+#include "track_session.h"
+
+#include <cstdio>
+#include <memory>
+#include <opencv2/imgcodecs.hpp>
+#include <variant>
+
+#include "app/progress.h"
+#include "frontend/klt_tracker.h"
+#include "frontend/track_drawing.h"
+#include "io/dataset_reader.h"
+
+namespace vid::app {
+namespace {
+
+cv::Mat read_gray(const std::string& path) {
+  cv::Mat img = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  if (img.empty()) throw io::DatasetError(path + ": cannot decode image");
+  return img;
+}
+
+struct CsvFile {
+  std::FILE* f = nullptr;
+  explicit CsvFile(const std::filesystem::path& p) : f(std::fopen(p.c_str(), "w")) {
+    if (!f) throw std::runtime_error(p.string() + ": cannot open for writing");
+  }
+  ~CsvFile() {
+    if (f) std::fclose(f);
+  }
+};
+
+}  // namespace
+
+TrackSummary run_tracking(const TrackOptions& o) {
+  io::ReaderOptions ropt;
+  ropt.read_features = false;
+  ropt.read_groundtruth = false;
+  io::DatasetReader reader(o.dataset, ropt);
+  const auto& cams = reader.calibration().cameras;
+  if (cams.empty()) throw io::DatasetError(reader.mav0().string() + ": no camN/sensor.yaml found");
+  if (!reader.has_stream("cam0")) {
+    throw io::DatasetError(reader.mav0().string() + ": no cam0/data.csv (vid_track needs images)");
+  }
+  const bool stereo = cams.size() >= 2 && reader.has_stream("cam1") && o.params.stereo;
+  std::vector<CameraCalib> used{cams[0]};
+  if (stereo) used.push_back(cams[1]);
+  KltTracker tracker(o.params, used);
+  TrackDrawer drawer;
+  if (o.draw_dir) std::filesystem::create_directories(*o.draw_dir);
+
+  CsvFile csv(o.out_csv);
+  std::fprintf(csv.f, "#timestamp [ns],cam_id,feature_id,u [px],v [px]\n");
+  ProgressBar bar("vid_track", 1.0);
+  TrackSummary s;
+  double sum_ms = 0, sum_feat = 0, sum_stereo = 0;
+  while (auto m = reader.next()) {
+    if (const auto* imu = std::get_if<ImuSample>(&*m)) {
+      tracker.add_imu(*imu);
+      continue;
+    }
+    const auto* frame = std::get_if<ImageFrame>(&*m);
+    if (!frame) continue;
+    cv::Mat left, right;
+    for (const auto& ref : frame->images) {
+      if (ref.cam_id == used[0].cam_id) left = read_gray(ref.path);
+      if (stereo && ref.cam_id == used[1].cam_id) right = read_gray(ref.path);
+    }
+    if (left.empty()) continue;  // a right-only timestamp: nothing to track
+    const FeatureFrame ff = tracker.process(frame->t_ns, left, right);
+    for (const auto& ob : ff.observations) {
+      std::fprintf(csv.f, "%lld,%d,%llu,%.4f,%.4f\n", static_cast<long long>(ff.t_ns), ob.cam_id,
+                   static_cast<unsigned long long>(ob.feature_id), ob.uv.x(), ob.uv.y());
+    }
+    const TrackerStats& st = tracker.stats();
+    if (o.draw_dir) {
+      drawer.update(tracker.tracks());
+      if (s.frames % o.draw_every == 0) {
+        char caption[160];
+        std::snprintf(caption, sizeof caption, "t=%lld  tracks %zu  new %d  stereo %d  kept %d/%d",
+                      static_cast<long long>(ff.t_ns), tracker.tracks().size(), st.detected,
+                      st.stereo_matched, st.ransac_inliers, st.previous);
+        const auto path = *o.draw_dir / (std::to_string(ff.t_ns) + ".png");
+        if (!cv::imwrite(path.string(), drawer.draw(left, right, tracker.tracks(), caption))) {
+          throw std::runtime_error(path.string() + ": cannot write image");
+        }
+      }
+    }
+    ++s.frames;
+    s.observations += ff.observations.size();
+    sum_ms += st.ms_total;
+    sum_feat += static_cast<double>(tracker.tracks().size());
+    sum_stereo += st.stereo_matched;
+    char extra[64];
+    std::snprintf(extra, sizeof extra, "%zu frames, %zu tracks", s.frames, tracker.tracks().size());
+    bar.update(reader.progress(), extra);
+  }
+  bar.finish();
+  if (s.frames > 0) {
+    s.mean_ms = sum_ms / static_cast<double>(s.frames);
+    s.mean_features = sum_feat / static_cast<double>(s.frames);
+    s.mean_stereo = sum_stereo / static_cast<double>(s.frames);
+  }
+  return s;
+}
+
+}  // namespace vid::app
