@@ -49,10 +49,20 @@ struct StreamStats {
   TimeNs last_ns = 0;
   TimeNs largest_gap_ns = 0;
   TimeNs largest_gap_at_ns = 0;
-  std::size_t dropped = 0;    ///< rows dropped under ReaderOptions
+  std::size_t dropped = 0;    ///< rows dropped under ReaderOptions (sum of the two below)
+  std::size_t dropped_bad_timestamps = 0;  ///< non-monotonic/duplicate rows (drop_bad_timestamps)
+  std::size_t skipped_missing_images = 0;  ///< listed images not on disk (skip_missing_images)
 };
 
 /// @brief Reader of a dataset folder (SEQ or SEQ/mav0). Throws DatasetError / ConfigError.
+///
+/// Every stream is a streaming CSV cursor holding one pending measurement; next() returns the
+/// earliest (k-way merge, constant memory). At equal timestamps the order is imu0, rotor0,
+/// thrust0, images, feat0, force0, mass0, ground truth. Images are never decoded: the reader
+/// only checks that each listed file exists. imu0/data.csv is required; camN/sensor.yaml is
+/// required when camN/data.csv or feat0/ uses camera N; rotor0/sensor.yaml when rotor0/ exists.
+/// All streams are opened and their first row read by the constructor, so an empty or
+/// malformed file start fails there.
 class DatasetReader : public MeasurementSource {
  public:
   DatasetReader(const std::filesystem::path& root, ReaderOptions options = {});
@@ -70,6 +80,8 @@ class DatasetReader : public MeasurementSource {
   bool has_stream(const std::string& name) const;
   /// @brief Statistics so far (complete after next() returned nullopt).
   std::vector<StreamStats> stats() const;
+  /// @brief Fraction [0, 1] of the opened data.csv bytes consumed so far (for progress bars).
+  double progress() const;
 
  private:
   struct Impl;

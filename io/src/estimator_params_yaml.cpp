@@ -1,0 +1,124 @@
+#include "io/estimator_params_yaml.h"
+
+#include <sstream>
+#include <stdexcept>
+
+#include "io/number_format.h"
+#include "io/strict_yaml.h"
+
+namespace vid::io {
+namespace {
+
+// One table per field type, so loading and printing cannot drift apart.
+struct DoubleField {
+  const char* key;
+  double EstimatorParams::*member;
+};
+struct IntField {
+  const char* key;
+  int EstimatorParams::*member;
+};
+struct BoolField {
+  const char* key;
+  bool EstimatorParams::*member;
+};
+
+#define VID_FIELD(name) {#name, &EstimatorParams::name}
+const DoubleField kDoubles[] = {
+    VID_FIELD(gravity),
+    VID_FIELD(gyro_noise_density),
+    VID_FIELD(gyro_random_walk),
+    VID_FIELD(accel_noise_density),
+    VID_FIELD(accel_random_walk),
+    VID_FIELD(imu_rate_hz),
+    VID_FIELD(thrust_noise_density),
+    VID_FIELD(force_random_walk),
+    VID_FIELD(rotor_gap_s),
+    VID_FIELD(rotor_gap_noise_scale),
+    VID_FIELD(imu_gap_s),
+    VID_FIELD(imu_gap_noise_scale),
+    VID_FIELD(accel_chi2_multiplier),
+    VID_FIELD(pixel_noise_px),
+    VID_FIELD(chi2_multiplier),
+    VID_FIELD(init_window_s),
+    VID_FIELD(init_accel_std_max),
+    VID_FIELD(init_gyro_std_max),
+    VID_FIELD(init_gravity_tolerance),
+    VID_FIELD(init_freefall_thrust_ratio),
+    VID_FIELD(init_sigma_roll_pitch),
+    VID_FIELD(init_sigma_yaw),
+    VID_FIELD(init_sigma_position),
+    VID_FIELD(init_sigma_velocity),
+    VID_FIELD(init_sigma_gyro_bias),
+    VID_FIELD(init_sigma_accel_bias),
+    VID_FIELD(init_sigma_force),
+    VID_FIELD(max_velocity),
+    VID_FIELD(max_position_sigma),
+};
+const IntField kInts[] = {
+    VID_FIELD(window_size),
+    VID_FIELD(min_track_length),
+    VID_FIELD(max_features_per_update),
+};
+const BoolField kBools[] = {
+    VID_FIELD(use_fej),
+    VID_FIELD(accel_update),
+    VID_FIELD(accel_chi2_gating),
+    VID_FIELD(visual_update),
+    VID_FIELD(use_stereo),
+};
+#undef VID_FIELD
+
+EstimatorParams from_map(const YamlMap& y) {
+  EstimatorParams p;
+  if (y.has("mode")) {
+    const std::string s = y.get_string("mode");
+    try {
+      p.mode = mode_from_string(s);
+    } catch (const std::invalid_argument&) {
+      y.fail("mode", "expected imu or dynamics, got '" + s + "'");
+    }
+  }
+  if (y.has("init_mode")) {
+    const std::string s = y.get_string("init_mode");
+    try {
+      p.init_mode = init_mode_from_string(s);
+    } catch (const std::invalid_argument&) {
+      y.fail("init_mode", "expected static or groundtruth, got '" + s + "'");
+    }
+  }
+  for (const auto& f : kDoubles) p.*f.member = y.get_double(f.key, p.*f.member);
+  for (const auto& f : kInts) p.*f.member = y.get_int(f.key, p.*f.member);
+  for (const auto& f : kBools) p.*f.member = y.get_bool(f.key, p.*f.member);
+  if (p.window_size < 2) y.fail("window_size", "must be at least 2, got " + std::to_string(p.window_size));
+  if (!(p.gravity > 0.0)) y.fail("gravity", "must be positive");
+  if (!(p.imu_rate_hz > 0.0)) y.fail("imu_rate_hz", "must be positive");
+  y.check_unknown();
+  return p;
+}
+
+}  // namespace
+
+EstimatorParams load_estimator_params(const std::filesystem::path& path) {
+  return from_map(YamlMap::load_file(path));
+}
+
+EstimatorParams load_estimator_params_string(const std::string& text, const std::string& name) {
+  return from_map(YamlMap::load_string(text, name));
+}
+
+std::string to_yaml(const EstimatorParams& p) {
+  std::ostringstream os;
+  os << "mode: " << to_string(p.mode) << "\n"
+     << "init_mode: " << to_string(p.init_mode) << "\n";
+  for (const auto& f : kInts) os << f.key << ": " << p.*f.member << "\n";
+  for (const auto& f : kBools) os << f.key << ": " << (p.*f.member ? "true" : "false") << "\n";
+  for (const auto& f : kDoubles) os << f.key << ": " << format_double(p.*f.member) << "\n";
+  return os.str();
+}
+
+}  // namespace vid::io
+
+namespace vid {
+std::ostream& operator<<(std::ostream& os, const EstimatorParams& params) { return os << io::to_yaml(params); }
+}  // namespace vid
