@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -40,14 +41,27 @@ const std::array<float, 65536>& normal_table() {
 }
 
 /// Flattened per-surface texture access for the inner loop.
-struct FastSurface {
+struct FastLevel {
   const std::uint8_t* data;
   std::size_t step;
   float max_x, max_y;  // last valid bilinear base coordinate
-  float off_u, off_v;  // texel coordinate = p[axis] * tpm - off
-  int u_axis, v_axis;
-  bool board;
+  float scale;         // texels per metre at this level
+  float off_u, off_v;  // texel coordinate = p[axis] * scale - off
 };
+struct FastSurface {
+  int u_axis, v_axis, normal_axis, n_levels;
+  bool board;
+  float board_lo_u, board_lo_v, board_hi_u, board_hi_v;  // board + margin, W coordinates
+  FastLevel level[24];
+};
+
+/// floor(log2(x)) / 2 for x >= 1 from the float exponent (0 for x < 4).
+inline int half_log2_floor(float x) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &x, sizeof(bits));
+  const int e = static_cast<int>((bits >> 23) & 0xFF) - 127;
+  return e > 0 ? e >> 1 : 0;
+}
 
 }  // namespace
 
@@ -61,111 +75,128 @@ Renderer::Renderer(const Scene& scene, const CameraCalib& calib, int supersampli
 Renderer::~Renderer() = default;
 
 void Renderer::precompute_rays() {
-  const int S = ss_ * ss_;
-  dirs_C_.assign(static_cast<std::size_t>(width_) * height_ * S * 3, 0.0f);
-  for (int y = 0; y < height_; ++y) {
-    for (int x = 0; x < width_; ++x) {
-      for (int sy = 0; sy < ss_; ++sy) {
-        for (int sx = 0; sx < ss_; ++sx) {
-          // Pixel centres are at integer coordinates (OpenCV convention).
-          const Eigen::Vector2d uv(x + (sx + 0.5) / ss_ - 0.5, y + (sy + 0.5) / ss_ - 0.5);
-          Eigen::Vector3d b;
-          float* d = &dirs_C_[((static_cast<std::size_t>(y) * width_ + x) * S + sy * ss_ + sx) * 3];
-          if (camera_->unproject(uv, &b) && b.z() > 1e-6) {
-            d[0] = static_cast<float>(b.x());
-            d[1] = static_cast<float>(b.y());
-            d[2] = static_cast<float>(b.z());
-          }
-        }
-      }
-    }
-  }
+  chunks_.clear();
   tiles_.clear();
   for (int ty = 0; ty < height_; ty += kTile) {
     for (int tx = 0; tx < width_; tx += kTile) {
-      Tile t{tx, ty, std::min(tx + kTile, width_), std::min(ty + kTile, height_),
-             Eigen::Vector3f::Zero(), 0.0f};
-      for (int y = t.y0; y < t.y1; ++y) {
-        for (int x = t.x0; x < t.x1; ++x) {
-          for (int s = 0; s < S; ++s) {
-            const float* d = &dirs_C_[((static_cast<std::size_t>(y) * width_ + x) * S + s) * 3];
-            t.axis_C += Eigen::Vector3f(d[0], d[1], d[2]);
+      Tile tile{chunks_.size(), chunks_.size(), Eigen::Vector3f::Zero(), 0.0f};
+      std::vector<Eigen::Vector3f> rays;
+      int lane = 4;
+      for (int y = ty; y < std::min(ty + kTile, height_); ++y) {
+        for (int x = tx; x < std::min(tx + kTile, width_); ++x) {
+          for (int sy = 0; sy < ss_; ++sy) {
+            for (int sx = 0; sx < ss_; ++sx) {
+              if (lane == 4) {
+                chunks_.push_back(Chunk{{0, 0, 0, 0}, {0, 0, 0, 0}, {1, 1, 1, 1}, {-1, -1, -1, -1}});
+                lane = 0;
+              }
+              // Pixel centres are at integer coordinates (OpenCV convention).
+              const Eigen::Vector2d uv(x + (sx + 0.5) / ss_ - 0.5, y + (sy + 0.5) / ss_ - 0.5);
+              Eigen::Vector3d b;
+              Chunk& c = chunks_.back();
+              if (camera_->unproject(uv, &b) && b.z() > 1e-6) {
+                c.x[lane] = static_cast<float>(b.x());
+                c.y[lane] = static_cast<float>(b.y());
+                c.z[lane] = static_cast<float>(b.z());
+                c.pix[lane] = y * width_ + x;
+                rays.push_back(b.cast<float>());
+                tile.axis_C += rays.back();
+              }
+              ++lane;
+            }
           }
         }
       }
-      if (t.axis_C.norm() > 0) t.axis_C.normalize();
+      tile.chunk_end = chunks_.size();
+      if (tile.axis_C.norm() > 0) tile.axis_C.normalize();
       float max_angle = 0.0f;
-      for (int y = t.y0; y < t.y1; ++y) {
-        for (int x = t.x0; x < t.x1; ++x) {
-          for (int s = 0; s < S; ++s) {
-            const float* d = &dirs_C_[((static_cast<std::size_t>(y) * width_ + x) * S + s) * 3];
-            const Eigen::Vector3f v(d[0], d[1], d[2]);
-            if (v.squaredNorm() == 0.0f) continue;
-            const float c = std::clamp(t.axis_C.dot(v.normalized()), -1.0f, 1.0f);
-            max_angle = std::max(max_angle, std::acos(c));
-          }
-        }
+      for (const auto& r : rays) {
+        max_angle = std::max(max_angle, std::acos(std::clamp(tile.axis_C.dot(r), -1.0f, 1.0f)));
       }
-      t.half_angle = max_angle + 1e-3f;  // margin for float rounding
-      tiles_.push_back(t);
+      tile.half_angle = max_angle + 1e-3f;  // margin for float rounding
+      tiles_.push_back(tile);
     }
   }
 }
 
 void Renderer::render_radiance_generic(const Eigen::Isometry3d& T_WC, float* out) const {
-  const int S = ss_ * ss_;
-  for (int i = 0; i < width_ * height_; ++i) {
-    float acc = 0.0f;
-    for (int s = 0; s < S; ++s) {
-      const float* d = &dirs_C_[(static_cast<std::size_t>(i) * S + s) * 3];
-      const Eigen::Vector3d dir_W =
-          T_WC.linear() * Eigen::Vector3d(d[0], d[1], d[2]);
-      if (dir_W.squaredNorm() == 0.0) continue;
+  const float inv_S = 1.0f / static_cast<float>(ss_ * ss_);
+  for (const Chunk& c : chunks_) {
+    for (int l = 0; l < 4; ++l) {
+      if (c.pix[l] < 0) continue;
+      const Eigen::Vector3d dir_W = T_WC.linear() * Eigen::Vector3d(c.x[l], c.y[l], c.z[l]);
       const auto hit = scene_.intersect(T_WC.translation(), dir_W);
-      if (hit) acc += scene_.shade(hit->surface, hit->uv_m.x(), hit->uv_m.y());
+      if (hit) out[c.pix[l]] += inv_S * scene_.shade(hit->surface, hit->uv_m.x(), hit->uv_m.y());
     }
-    out[i] = acc / S;
   }
 }
 
+namespace {
+
+// Four lanes of floats / ints (GCC/Clang vector extensions; SSE2 or NEON code).
+typedef float v4f __attribute__((vector_size(16)));
+typedef std::int32_t v4i __attribute__((vector_size(16)));
+
+inline v4f vmin(v4f a, v4f b) { return a < b ? a : b; }
+inline v4f vmax(v4f a, v4f b) { return a > b ? a : b; }
+inline v4f splat(float x) { return v4f{x, x, x, x}; }
+inline v4i splat_i(std::int32_t x) { return v4i{x, x, x, x}; }
+
+}  // namespace
+
 void Renderer::render_radiance(const Eigen::Isometry3d& T_WC, float* out) const {
+  std::fill(out, out + static_cast<std::size_t>(width_) * height_, 0.0f);
   if (!scene_.is_free(T_WC.translation(), 1e-6)) {
     render_radiance_generic(T_WC, out);  // camera outside the room or inside a box
     return;
   }
-  const int S = ss_ * ss_;
-  const float inv_S = 1.0f / S;
+  const float inv_S = 1.0f / static_cast<float>(ss_ * ss_);
   const Eigen::Matrix3f R = T_WC.linear().cast<float>();
-  const float o[3] = {static_cast<float>(T_WC.translation().x()),
-                      static_cast<float>(T_WC.translation().y()),
-                      static_cast<float>(T_WC.translation().z())};
+  const Eigen::Vector3f o = T_WC.translation().cast<float>();
   const Eigen::Vector3f room_lo = scene_.room_min().cast<float>();
   const Eigen::Vector3f room_hi = scene_.room_max().cast<float>();
-  const float tpm = static_cast<float>(scene_.config().texels_per_m);
+  const double tpm = scene_.config().texels_per_m;
 
   const auto& surfaces = scene_.surfaces();
   std::vector<FastSurface> fs(surfaces.size());
+  const Eigen::Vector4d board = scene_.checkerboard_rect_uv();
+  const double board_margin = scene_.config().checkerboard.square_size;
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
     const Surface& s = surfaces[i];
-    fs[i] = FastSurface{s.texture.ptr<std::uint8_t>(0), s.texture.step[0],
-                        static_cast<float>(s.texture.cols) - 1.001f,
-                        static_cast<float>(s.texture.rows) - 1.001f,
-                        static_cast<float>(s.u0 * tpm + 0.5), static_cast<float>(s.v0 * tpm + 0.5),
-                        s.u_axis, s.v_axis, static_cast<int>(i) == scene_.checkerboard_surface()};
+    FastSurface& f = fs[i];
+    f.u_axis = s.u_axis;
+    f.v_axis = s.v_axis;
+    f.normal_axis = s.normal_axis;
+    f.n_levels = std::min<int>(static_cast<int>(s.mips.size()), 24);
+    for (int L = 0; L < f.n_levels; ++L) {
+      const cv::Mat& m = s.mips[L];
+      const double scale = scene_.config().texels_per_m / (1 << L);
+      f.level[L] = FastLevel{m.ptr<std::uint8_t>(0), m.step[0], static_cast<float>(m.cols) - 1.001f,
+                             static_cast<float>(m.rows) - 1.001f, static_cast<float>(scale),
+                             static_cast<float>(s.u0 * scale + 0.5),
+                             static_cast<float>(s.v0 * scale + 0.5)};
+    }
+    f.board = static_cast<int>(i) == scene_.checkerboard_surface();
+    f.board_lo_u = static_cast<float>(s.u0 + board[0] - board_margin);
+    f.board_lo_v = static_cast<float>(s.v0 + board[1] - board_margin);
+    f.board_hi_u = static_cast<float>(s.u0 + board[2] + board_margin);
+    f.board_hi_v = static_cast<float>(s.v0 + board[3] + board_margin);
   }
+  // Texels (level 0) per sample per metre of distance: one sample spans 1/(f ss) rad.
+  const float fp_per_m = static_cast<float>(
+      tpm / (0.5 * (camera_->calib().intrinsics[0] + camera_->calib().intrinsics[1]) * ss_));
+  const float fp2_per_m2 = fp_per_m * fp_per_m;
 
-  // Boxes as float slabs plus their bounding spheres in the camera frame for tile culling.
+  // Boxes as slabs plus their bounding spheres in the camera frame for tile culling.
   const auto& boxes = scene_.boxes();
   const int nb = static_cast<int>(boxes.size());
-  std::vector<float> blo(3 * nb), bhi(3 * nb), b_ang(nb);
-  std::vector<Eigen::Vector3f> b_dir(nb);
-  std::vector<bool> b_always(nb);
+  std::vector<float> b_ang(nb);
+  std::vector<Eigen::Vector3f> b_dir(nb), b_lo(nb), b_hi(nb);
+  std::vector<char> b_always(nb);
   const Eigen::Isometry3d T_CW = T_WC.inverse();
   for (int b = 0; b < nb; ++b) {
-    for (int a = 0; a < 3; ++a) {
-      blo[3 * b + a] = static_cast<float>(boxes[b].min_W[a]);
-      bhi[3 * b + a] = static_cast<float>(boxes[b].max_W[a]);
-    }
+    b_lo[b] = boxes[b].min_W.cast<float>();
+    b_hi[b] = boxes[b].max_W.cast<float>();
     const Eigen::Vector3d c_C = T_CW * (0.5 * (boxes[b].min_W + boxes[b].max_W));
     const double r = 0.5 * (boxes[b].max_W - boxes[b].min_W).norm() * 1.001 + 1e-4;
     const double dist = c_C.norm();
@@ -174,83 +205,115 @@ void Renderer::render_radiance(const Eigen::Isometry3d& T_WC, float* out) const 
     b_ang[b] = b_always[b] ? 0.0f : static_cast<float>(std::asin(r / dist));
   }
 
+  const v4f ox = splat(o.x()), oy = splat(o.y()), oz = splat(o.z());
+  const v4f zero = splat(0.0f);
   std::vector<int> cand;
   cand.reserve(nb);
   for (const Tile& tile : tiles_) {
     cand.clear();
     for (int b = 0; b < nb; ++b) {
-      if (b_always[b]) {
-        cand.push_back(b);
+      const float c = std::clamp(tile.axis_C.dot(b_dir[b]), -1.0f, 1.0f);
+      if (b_always[b] || std::acos(c) <= tile.half_angle + b_ang[b]) cand.push_back(b);
+    }
+    for (std::size_t ci = tile.chunk_begin; ci < tile.chunk_end; ++ci) {
+      const Chunk& ch = chunks_[ci];
+      v4f cx, cy, cz;
+      std::memcpy(&cx, ch.x, sizeof(cx));
+      std::memcpy(&cy, ch.y, sizeof(cy));
+      std::memcpy(&cz, ch.z, sizeof(cz));
+      const v4f d[3] = {R(0, 0) * cx + R(0, 1) * cy + R(0, 2) * cz,
+                        R(1, 0) * cx + R(1, 1) * cy + R(1, 2) * cz,
+                        R(2, 0) * cx + R(2, 1) * cy + R(2, 2) * cz};
+      const v4f inv[3] = {1.0f / d[0], 1.0f / d[1], 1.0f / d[2]};
+      const v4f org[3] = {ox, oy, oz};
+      // Leaving the room: on each axis the exit wall follows the sign of the direction.
+      v4f t = splat(std::numeric_limits<float>::infinity());
+      v4i surface = splat_i(0);
+      for (int a = 0; a < 3; ++a) {
+        const v4i pos = inv[a] >= zero;
+        const v4f ta = ((pos ? splat(room_hi[a]) : splat(room_lo[a])) - org[a]) * inv[a];
+        const v4i closer = ta < t;
+        t = closer ? ta : t;
+        surface = closer ? (pos ? splat_i(2 * a + 1) : splat_i(2 * a)) : surface;
+      }
+      for (const int b : cand) {
+        v4f tn = splat(-std::numeric_limits<float>::infinity());
+        v4f tf = splat(std::numeric_limits<float>::infinity());
+        v4i face = splat_i(0);
+        for (int a = 0; a < 3; ++a) {
+          const v4f t1 = (splat(b_lo[b][a]) - org[a]) * inv[a];
+          const v4f t2 = (splat(b_hi[b][a]) - org[a]) * inv[a];
+          const v4f lo = vmin(t1, t2);
+          const v4i later = lo > tn;
+          tn = later ? lo : tn;
+          // Entering through the min face when moving in +axis.
+          face = later ? (inv[a] >= zero ? splat_i(2 * a) : splat_i(2 * a + 1)) : face;
+          tf = vmin(tf, vmax(t1, t2));
+        }
+        const v4i hit = (tn <= tf) & (tn > zero) & (tn < t);
+        t = hit ? tn : t;
+        surface = hit ? face + splat_i(6 + 6 * b) : surface;
+      }
+      // Common case: all four rays on one textured surface (not the board): vector math, one
+      // mip level for the chunk (its rays are within a pixel or two of each other).
+      const int s0 = surface[0];
+      const FastSurface& f0 = fs[s0];
+      if (!f0.board && s0 == surface[1] && s0 == surface[2] && s0 == surface[3] &&
+          ch.pix[0] >= 0 && ch.pix[3] >= 0) {
+        const v4f pu = splat(o[f0.u_axis]) + t * d[f0.u_axis];
+        const v4f pv = splat(o[f0.v_axis]) + t * d[f0.v_axis];
+        const float fp2 = t[0] * t[0] * fp2_per_m2 * std::abs(inv[f0.normal_axis][0]);
+        const FastLevel& lv = f0.level[std::min(half_log2_floor(fp2), f0.n_levels - 1)];
+        const v4f tx = vmin(vmax(pu * lv.scale - lv.off_u, zero), splat(lv.max_x));
+        const v4f ty = vmin(vmax(pv * lv.scale - lv.off_v, zero), splat(lv.max_y));
+        const v4i x0 = __builtin_convertvector(tx, v4i), y0 = __builtin_convertvector(ty, v4i);
+        const v4f fx = tx - __builtin_convertvector(x0, v4f);
+        const v4f fy = ty - __builtin_convertvector(y0, v4f);
+        v4f a, b, c, e;
+        for (int l = 0; l < 4; ++l) {
+          const std::uint8_t* r0 = lv.data + y0[l] * lv.step + x0[l];
+          a[l] = r0[0];
+          b[l] = r0[1];
+          c[l] = r0[lv.step];
+          e[l] = r0[lv.step + 1];
+        }
+        const v4f top = a + fx * (b - a), bot = c + fx * (e - c);
+        const v4f value = (top + fy * (bot - top)) * inv_S;
+        if (ch.pix[0] == ch.pix[3]) {  // one pixel (2x2 supersampling): a single store
+          out[ch.pix[0]] += (value[0] + value[1]) + (value[2] + value[3]);
+        } else {
+          for (int l = 0; l < 4; ++l) out[ch.pix[l]] += value[l];
+        }
         continue;
       }
-      const float c = std::clamp(tile.axis_C.dot(b_dir[b]), -1.0f, 1.0f);
-      if (std::acos(c) <= tile.half_angle + b_ang[b]) cand.push_back(b);
-    }
-    const int nc = static_cast<int>(cand.size());
-    for (int y = tile.y0; y < tile.y1; ++y) {
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        const std::size_t pix = static_cast<std::size_t>(y) * width_ + x;
-        const float* dc = &dirs_C_[pix * S * 3];
-        float acc = 0.0f;
-        for (int s = 0; s < S; ++s, dc += 3) {
-          const float d[3] = {R(0, 0) * dc[0] + R(0, 1) * dc[1] + R(0, 2) * dc[2],
-                              R(1, 0) * dc[0] + R(1, 1) * dc[1] + R(1, 2) * dc[2],
-                              R(2, 0) * dc[0] + R(2, 1) * dc[1] + R(2, 2) * dc[2]};
-          if (dc[2] == 0.0f) continue;  // ray outside the model's valid domain: black
-          const float inv[3] = {1.0f / d[0], 1.0f / d[1], 1.0f / d[2]};
-          // Leaving the room: the exit plane on each axis follows the sign of the direction.
-          float t = kInfF();
-          int surface = 0, axis = 0;
-          for (int a = 0; a < 3; ++a) {
-            const bool pos = inv[a] >= 0.0f;
-            const float ta = ((pos ? room_hi[a] : room_lo[a]) - o[a]) * inv[a];
-            if (ta < t) {
-              t = ta;
-              axis = a;
-              surface = 2 * a + (pos ? 1 : 0);
-            }
-          }
-          for (int k = 0; k < nc; ++k) {
-            const int b = cand[k];
-            float tn = -kInfF(), tf = kInfF();
-            int an = 0;
-            for (int a = 0; a < 3; ++a) {
-              const float t1 = (blo[3 * b + a] - o[a]) * inv[a];
-              const float t2 = (bhi[3 * b + a] - o[a]) * inv[a];
-              const float lo = std::min(t1, t2), hi = std::max(t1, t2);
-              if (lo > tn) {
-                tn = lo;
-                an = a;
-              }
-              tf = std::min(tf, hi);
-            }
-            if (tn <= tf && tn > 0.0f && tn < t) {
-              t = tn;
-              axis = an;
-              // Entering through the min face when moving in +axis.
-              surface = 6 + 6 * b + 2 * an + (inv[an] >= 0.0f ? 0 : 1);
-            }
-          }
-          (void)axis;
-          const FastSurface& f = fs[surface];
-          const float pu = o[f.u_axis] + t * d[f.u_axis];
-          const float pv = o[f.v_axis] + t * d[f.v_axis];
-          if (f.board) {
-            const Surface& sf = surfaces[surface];
-            acc += scene_.shade(surface, pu - sf.u0, pv - sf.v0);
-            continue;
-          }
-          const float tx = std::clamp(pu * tpm - f.off_u, 0.0f, f.max_x);
-          const float ty = std::clamp(pv * tpm - f.off_v, 0.0f, f.max_y);
+      // Shade each lane: bilinear lookup in the mip level matching the sample footprint.
+      for (int l = 0; l < 4; ++l) {
+        const int pix = ch.pix[l];
+        if (pix < 0) continue;
+        const FastSurface& f = fs[surface[l]];
+        const float tl = t[l];
+        const float pu = o[f.u_axis] + tl * d[f.u_axis][l];
+        const float pv = o[f.v_axis] + tl * d[f.v_axis][l];
+        float value;
+        if (f.board && pu >= f.board_lo_u && pu <= f.board_hi_u && pv >= f.board_lo_v &&
+            pv <= f.board_hi_v) {
+          const Surface& sf = surfaces[surface[l]];
+          value = scene_.shade(surface[l], pu - sf.u0, pv - sf.v0);  // exact board pattern
+        } else {
+          // Footprint^2 in level-0 texels: distance^2 and obliquity 1/cos (= |1/d_n|).
+          const float fp2 = tl * tl * fp2_per_m2 * std::abs(inv[f.normal_axis][l]);
+          const FastLevel& lv = f.level[std::min(half_log2_floor(fp2), f.n_levels - 1)];
+          const float tx = std::clamp(pu * lv.scale - lv.off_u, 0.0f, lv.max_x);
+          const float ty = std::clamp(pv * lv.scale - lv.off_v, 0.0f, lv.max_y);
           const int x0 = static_cast<int>(tx), y0 = static_cast<int>(ty);
           const float fx = tx - x0, fy = ty - y0;
-          const std::uint8_t* r0 = f.data + y0 * f.step + x0;
-          const std::uint8_t* r1 = r0 + f.step;
+          const std::uint8_t* r0 = lv.data + y0 * lv.step + x0;
+          const std::uint8_t* r1 = r0 + lv.step;
           const float top = r0[0] + fx * (static_cast<float>(r0[1]) - r0[0]);
           const float bot = r1[0] + fx * (static_cast<float>(r1[1]) - r1[0]);
-          acc += top + fy * (bot - top);
+          value = top + fy * (bot - top);
         }
-        out[pix] = acc * inv_S;
+        out[pix] += value * inv_S;
       }
     }
   }
@@ -287,7 +350,7 @@ void Renderer::render(const Eigen::Isometry3d& T_WC, const FrameAppearance& app,
         bits >>= 16;
         --left;
       }
-      row[x] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
+      row[x] = static_cast<std::uint8_t>(std::clamp(v, 0.0f, 255.0f) + 0.5f);
     }
   }
 }

@@ -50,6 +50,22 @@ bool overlaps(const Box& a, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi
   return (a.min_W.array() < hi.array()).all() && (a.max_W.array() > lo.array()).all();
 }
 
+/// Next mip level: 2x2 box average, odd sizes padded by repeating the last row/column.
+cv::Mat half_size(const cv::Mat& src) {
+  const int w = (src.cols + 1) / 2, h = (src.rows + 1) / 2;
+  cv::Mat dst(h, w, CV_8U);
+  for (int r = 0; r < h; ++r) {
+    const std::uint8_t* a = src.ptr<std::uint8_t>(std::min(2 * r, src.rows - 1));
+    const std::uint8_t* b = src.ptr<std::uint8_t>(std::min(2 * r + 1, src.rows - 1));
+    std::uint8_t* d = dst.ptr<std::uint8_t>(r);
+    for (int c = 0; c < w; ++c) {
+      const int c0 = std::min(2 * c, src.cols - 1), c1 = std::min(2 * c + 1, src.cols - 1);
+      d[c] = static_cast<std::uint8_t>((a[c0] + a[c1] + b[c0] + b[c1] + 2) / 4);
+    }
+  }
+  return dst;
+}
+
 int u_axis_of(int normal_axis) { return normal_axis == 0 ? 1 : 0; }
 int v_axis_of(int normal_axis) { return normal_axis == 2 ? 1 : 2; }
 
@@ -140,6 +156,8 @@ void Scene::make_surfaces() {
     s.v_len = hi[s.v_axis] - lo[s.v_axis];
     s.texture = make_surface_texture(s.u_len, s.v_len, tpm,
                                      derive_seed(config_.texture_seed, stream), style);
+    s.mips.push_back(s.texture);
+    while (s.mips.back().cols > 4 && s.mips.back().rows > 4) s.mips.push_back(half_size(s.mips.back()));
     surfaces_.push_back(std::move(s));
   };
   Rng style_rng(derive_seed(config_.texture_seed, 2000));

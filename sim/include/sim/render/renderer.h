@@ -85,8 +85,15 @@ class Renderer {
   int supersampling() const { return ss_; }
 
  private:
+  /// Four sample rays (SIMD lanes) in the camera frame and the pixel each belongs to
+  /// (-1: padding or a ray the model cannot unproject; it contributes black).
+  struct Chunk {
+    float x[4], y[4], z[4];
+    std::int32_t pix[4];
+  };
+  /// 16x16 pixel tile: its chunks and a cone bounding its rays, for culling boxes per tile.
   struct Tile {
-    int x0, y0, x1, y1;
+    std::size_t chunk_begin, chunk_end;
     Eigen::Vector3f axis_C;  ///< unit mean direction of the tile's sample rays
     float half_angle;        ///< max angle between axis_C and any sample ray [rad]
   };
@@ -98,7 +105,7 @@ class Renderer {
   std::unique_ptr<CameraModel> camera_;
   int ss_;
   int width_, height_;
-  std::vector<float> dirs_C_;  ///< per pixel, per sample: x, y, z (z = 1 plane; 0 if invalid)
+  std::vector<Chunk> chunks_;  ///< all sample rays, tile by tile
   std::vector<Tile> tiles_;
   mutable std::vector<float> radiance_;  ///< scratch: per-pixel mean of samples
 };

@@ -26,6 +26,9 @@ struct Surface {
   double u0 = 0.0, v0 = 0.0;   ///< W coordinates of the texture origin (rectangle min corner)
   double u_len = 0.0, v_len = 0.0;  ///< rectangle size [m]
   cv::Mat texture;             ///< CV_8UC1, cols along u, rows along v
+  /// Mip levels: mips[0] is `texture`, mips[L] is 2^L x 2^L box-averaged (texel j of level L
+  /// covers texels [2^L j, 2^L (j+1)) of level 0), down to a few texels.
+  std::vector<cv::Mat> mips;
 };
 
 /// @brief Axis-aligned obstacle box.
