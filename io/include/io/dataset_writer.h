@@ -17,6 +17,13 @@ class Mat;
 namespace vid::io {
 
 /// @brief Writer of a dataset folder ROOT/mav0/... . Files are created on first use.
+///
+/// Numbers are written in the shortest form that parses back to the same double, so
+/// write -> DatasetReader returns identical values. Every row is flushed when written. The
+/// writer refuses (DatasetError naming the file) what the reader would reject: timestamps not
+/// strictly increasing per stream (per frame for feat0), negative timestamps, NaN/Inf, rotor
+/// samples whose length changes, non-CV_8UC1 images, and writes after close(). A FeatureFrame
+/// with no observations writes no row.
 class DatasetWriter {
  public:
   explicit DatasetWriter(const std::filesystem::path& root);
