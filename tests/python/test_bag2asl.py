@@ -235,3 +235,35 @@ def test_non_increasing_stamps_dropped_and_counted(tmp_path):
     assert summary["streams"]["imu0"]["dropped_non_increasing"] == 2
     assert summary["mass_kg"] == 2.5 and summary["mass_source"] == "--mass"
     assert len(list((out / "mav0" / "cam0" / "data").iterdir())) == 3
+
+
+def _vid_info(cpp_program, out: pathlib.Path) -> dict:
+    import json
+    import subprocess
+
+    res = subprocess.run([str(cpp_program("vid_info")), str(out), "--json"], capture_output=True, text=True,
+                         timeout=120)
+    assert res.returncode == 0, res.stderr
+    return {s["name"]: s for s in json.loads(res.stdout)["streams"]}
+
+
+def test_output_loads_in_cpp_reader(tmp_path, cpp_program):
+    """The dataset summary (C++ DatasetReader) reads every converted stream with the same counts."""
+    bag1 = tmp_path / "vid17.bag"
+    exp1 = write_raw_vid_bag(bag1, "lz4")
+    bag2 = tmp_path / "vid18"
+    exp2 = write_synced_ros2_bag(bag2, "allrpm")
+    for bag, exp in ((bag1, exp1), (bag2, exp2)):
+        out = tmp_path / (bag.stem + "_out")
+        assert main([str(bag), str(out), "--no-progress"]) == 0
+        streams = _vid_info(cpp_program, out)
+        expected = {"cam0": len(exp["cam0"]), "imu0": len(exp["imu0"]), "rotor0": len(exp["rotor0"]),
+                    "state_groundtruth_estimate0": len(exp["gt"]), "force0": len(exp["force0"])}
+        if "cam1" in exp:
+            expected["cam1"] = len(exp["cam1"])
+        assert {name: s["count"] for name, s in streams.items()} == expected
+        for name, s in streams.items():
+            assert s["dropped"] == 0 and s.get("skipped_missing_images", 0) == 0, name
+        assert streams["imu0"]["first_ns"] == exp["imu0"][0][0]
+        assert streams["imu0"]["last_ns"] == exp["imu0"][-1][0]
+        assert streams["cam0"]["last_ns"] == exp["cam0"][-1][0]

@@ -3,7 +3,10 @@ Odometry ground truth) and the small pieces (PNG encoder, mass rule, encodings).
 from __future__ import annotations
 
 import io
+import json
 import pathlib
+import shutil
+import subprocess
 
 import numpy as np
 import pytest
@@ -28,7 +31,16 @@ def rotation_matrix(q):
                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
 
 
-def test_vid_fusion_map_rad_s_rotors_and_odometry(tmp_path):
+def hexacopter_preset(tmp_path) -> pathlib.Path:
+    """The VID preset with a 6-rotor vehicle.yaml (k in N/(rad/s)^2), as a user would pass with --preset."""
+    preset = tmp_path / "preset"
+    shutil.copytree(calib.DEFAULT_PRESET, preset)
+    (preset / "vehicle.yaml").write_text("mass_kg: 1.5\ngravity: 9.81\nrotor_thrust_coefficients: [8.5e-6, 8.5e-6, "
+                                         "8.5e-6, 8.5e-6, 8.5e-6, 8.5e-6]\n")
+    return preset
+
+
+def test_vid_fusion_map_rad_s_rotors_and_odometry(tmp_path, cpp_program):
     rng = np.random.default_rng(5)
     bag = tmp_path / "iris.bag"
     w = BagWriter(bag)
@@ -47,8 +59,9 @@ def test_vid_fusion_map_rad_s_rotors_and_odometry(tmp_path):
         exp_gt.append((t, p, q, rotation_matrix(q) @ vb))
     w.close()
     out = tmp_path / "out"
-    assert main([str(bag), str(out), "--topics", str(MAPS / "vid_fusion_iris.yaml"), "--mass", "1.5",
-                 "--no-progress"]) == 0
+    argv = [str(bag), str(out), "--topics", str(MAPS / "vid_fusion_iris.yaml"), "--mass", "1.5", "--no-progress"]
+    assert main(argv) == 1  # the default (VID, 4-rotor) preset does not fit a hexacopter
+    assert main(argv + ["--overwrite", "--preset", str(hexacopter_preset(tmp_path))]) == 0
     mav0 = out / "mav0"
     assert numeric(mav0 / "rotor0" / "data.csv") == exp_rot
     sensor = yaml.safe_load((mav0 / "rotor0" / "sensor.yaml").read_text())
@@ -62,9 +75,18 @@ def test_vid_fusion_map_rad_s_rotors_and_odometry(tmp_path):
         assert vals[10:] == [0.0] * 6
     summary = yaml.safe_load((out / "bag2asl.yaml").read_text())
     assert summary["streams"]["state_groundtruth_estimate0"]["velocity"] == "odometry_twist_rotated_to_world"
+    counts = vid_info_counts(cpp_program, out)
+    assert counts == {"cam0": 10, "imu0": 10, "rotor0": 10, "state_groundtruth_estimate0": 10}
 
 
-def test_collective_thrust_map_and_rotated_force(tmp_path):
+def vid_info_counts(cpp_program, out: pathlib.Path) -> dict:
+    res = subprocess.run([str(cpp_program("vid_info")), str(out), "--json"], capture_output=True, text=True,
+                         timeout=120)
+    assert res.returncode == 0, res.stderr
+    return {s["name"]: s["count"] for s in json.loads(res.stdout)["streams"]}
+
+
+def test_collective_thrust_map_and_rotated_force(tmp_path, cpp_program):
     rng = np.random.default_rng(6)
     bag = tmp_path / "cmd.bag"
     w = BagWriter(bag)
@@ -87,6 +109,7 @@ def test_collective_thrust_map_and_rotated_force(tmp_path):
     assert numeric(out / "mav0" / "force0" / "data.csv") == exp_force
     assert rows(out / "mav0" / "thrust0" / "data.csv")  # header checked inside rows()
     assert (out / "mav0" / "thrust0" / "data.csv").read_text().startswith("#timestamp [ns],thrust [N]\n")
+    assert vid_info_counts(cpp_program, out) == {"cam0": 8, "imu0": 8, "thrust0": 8, "force0": 8}
 
 
 def test_compressed_image_and_bag_time_stamp(tmp_path):

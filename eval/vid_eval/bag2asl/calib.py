@@ -56,6 +56,10 @@ class Preset:
         self.sequences = _load_yaml(seq_path).get("sequences", {}) if seq_path.exists() else {}
         for k in ("mass_kg", "gravity", "rotor_thrust_coefficients"):
             _key(self.vehicle, k, self.vehicle_path)
+        coeffs = self.vehicle["rotor_thrust_coefficients"]
+        if not isinstance(coeffs, list) or not coeffs or not all(
+                isinstance(c, (int, float)) and not isinstance(c, bool) for c in coeffs):
+            raise ConfigError(f"{self.vehicle_path}: key rotor_thrust_coefficients: expected a list of numbers")
 
 
 def mass_for(bag_path: pathlib.Path, flag: float | None, preset: Preset) -> tuple[float, str]:

@@ -55,7 +55,7 @@ def _check_types(bag: Bag, resolved) -> None:
                         f"{', '.join(short_type(a) for a in accepted)}")
 
 
-def _make_handlers(resolved, mav0, bag_path, opts, mass_kg):
+def _make_handlers(resolved, mav0, bag_path, opts, mass_kg, preset):
     handlers = []
     for rs in resolved:
         kind = rs.spec.kind
@@ -64,7 +64,8 @@ def _make_handlers(resolved, mav0, bag_path, opts, mass_kg):
         elif kind == "imu":
             h = ImuHandler(rs, mav0, bag_path)
         elif kind == "rotor":
-            h = RotorHandler(rs, mav0, bag_path)
+            h = RotorHandler(rs, mav0, bag_path, len(preset.vehicle["rotor_thrust_coefficients"]),
+                             preset.vehicle_path)
         elif kind == "thrust":
             h = ThrustHandler(rs, mav0, bag_path, mass_kg)
         elif kind == "groundtruth":
@@ -109,7 +110,7 @@ def convert(opts: Options, log=print) -> dict:
             mav0.mkdir(parents=True, exist_ok=True)
         except OSError as err:
             raise os_error(mav0, err) from None
-        handlers = _make_handlers(resolved, mav0, opts.bag, opts, mass_kg)
+        handlers = _make_handlers(resolved, mav0, opts.bag, opts, mass_kg, preset)
         routes = {}
         for h in handlers:
             for index, topic in enumerate(h.rs.source.topics):

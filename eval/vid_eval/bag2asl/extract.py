@@ -141,8 +141,10 @@ class RotorHandler(Handler):
 
     lazy = True
 
-    def __init__(self, rs, mav0, bag_path):
+    def __init__(self, rs, mav0, bag_path, coefficients: int, vehicle_path):
         super().__init__(rs, mav0, bag_path)
+        self.coefficients = coefficients  # rotor_thrust_coefficients in the preset's vehicle.yaml
+        self.vehicle_path = vehicle_path
         self.count = None
         self.latest = [None] * len(rs.source.topics)
         self.order = rs.spec.options.get("order")
@@ -153,6 +155,9 @@ class RotorHandler(Handler):
         if self.order is not None and len(self.order) != k:
             raise ConfigError(f"{where}: {k} rotor values but order has {len(self.order)} entries")
         if self.csv is None:
+            if k != self.coefficients:
+                raise ConfigError(f"{where}: {k} rotor speeds per message but {self.vehicle_path} has "
+                                  f"{self.coefficients} rotor_thrust_coefficients (pass --preset DIR for this vehicle)")
             self.count = k
             self.csv = CsvStream(self.dir / "data.csv",
                                  "#timestamp [ns]," + ",".join(f"n_{i + 1}" for i in range(k)))
