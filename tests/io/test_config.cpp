@@ -8,6 +8,7 @@
 
 #include "io/estimator_params_yaml.h"
 #include "io/kalibr.h"
+#include "io/reader_options_yaml.h"
 #include "io/sensor_yaml.h"
 #include "io/strict_yaml.h"
 #include "io_test_util.h"
@@ -304,6 +305,23 @@ TEST(EstimatorParamsYaml, RoundTripEveryFieldChanged) {
             "e.yaml:1: key 'window_size': expected an integer, got '2.5'");
   EXPECT_EQ(config_error([] { load_estimator_params_string("use_fej: maybe\n", "e.yaml"); }),
             "e.yaml:1: key 'use_fej': expected true or false, got 'maybe'");
+}
+
+TEST(ReaderOptionsYaml, RoundTripAndStrictKeys) {
+  ReaderOptions o;
+  o.drop_bad_timestamps = true;
+  o.read_images = false;
+  std::ostringstream os;
+  os << o;
+  const ReaderOptions b = load_reader_options(YamlMap::load_string(os.str(), "r.yaml"));
+  EXPECT_TRUE(b.drop_bad_timestamps);
+  EXPECT_FALSE(b.skip_missing_images);
+  EXPECT_FALSE(b.read_images);
+  EXPECT_TRUE(b.read_features);
+  EXPECT_TRUE(b.read_groundtruth);
+  EXPECT_EQ(to_yaml(b), os.str());
+  EXPECT_EQ(config_error([] { load_reader_options(YamlMap::load_string("read_image: true\n", "r.yaml")); }),
+            "r.yaml:1: unknown key 'read_image'");
 }
 
 }  // namespace

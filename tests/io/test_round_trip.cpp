@@ -186,6 +186,22 @@ TEST(RoundTrip, OptionsSkipImagesFeaturesAndGroundTruth) {
   EXPECT_TRUE(reader.has_stream("cam0"));  // present in the folder, just not read
 }
 
+TEST(RoundTrip, ReaderNeverDecodesImages) {
+  ScratchDir dir;
+  write_sequence(dir.path(), SeqKind::kMono);
+  // Replace every PNG with bytes no decoder accepts: the reader only checks existence.
+  std::size_t replaced = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir.path() / "mav0/cam0/data")) {
+    write_text(e.path(), "not a png");
+    ++replaced;
+  }
+  ASSERT_EQ(replaced, 10u);
+  DatasetReader reader(dir.path());
+  std::size_t frames = 0;
+  while (auto m = reader.next()) frames += std::holds_alternative<ImageFrame>(*m);
+  EXPECT_EQ(frames, 10u);
+}
+
 TEST(Writer, RefusesUnsortedTimestampsNonFiniteValuesAndColourImages) {
   ScratchDir dir;
   DatasetWriter w(dir.path());
