@@ -30,6 +30,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="calibration preset folder (default: config/vid_dataset)")
     p.add_argument("--png-level", type=int, default=1, choices=range(0, 10), metavar="0-9",
                    help="PNG zlib compression level (default 1: fast)")
+    p.add_argument("--jobs", type=int, default=2, metavar="N",
+                   help="threads encoding PNGs (default 2; 1 = encode inline)")
     p.add_argument("--overwrite", action="store_true", help="write into a non-empty OUT/mav0")
     p.add_argument("--no-progress", action="store_true", help="never draw the progress bar")
     return p
@@ -38,7 +40,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     opts = Options(bag=args.bag, out=args.out, topics=args.topics, start_s=args.start, end_s=args.end,
-                   mass_kg=args.mass, preset=args.preset, png_level=args.png_level,
+                   mass_kg=args.mass, preset=args.preset, png_level=args.png_level, jobs=args.jobs,
                    overwrite=args.overwrite, progress=False if args.no_progress else None)
     try:
         convert(opts)

@@ -15,7 +15,7 @@ from .extract import ForceHandler, ImageHandler, ImuHandler, RotorHandler, Thrus
 from .groundtruth import GroundTruthHandler
 from .progress import Progress
 from . import sinks
-from .sinks import os_error
+from .sinks import PngPool, os_error
 from . import topicmap
 
 # message types each kind accepts (others are reported as unsupported before any data is read)
@@ -38,6 +38,7 @@ class Options:
     mass_kg: float | None = None
     preset: pathlib.Path | None = None
     png_level: int = 1
+    jobs: int = 2
     overwrite: bool = False
     progress: bool | None = None
 
@@ -55,12 +56,12 @@ def _check_types(bag: Bag, resolved) -> None:
                         f"{', '.join(short_type(a) for a in accepted)}")
 
 
-def _make_handlers(resolved, mav0, bag_path, opts, mass_kg, preset):
+def _make_handlers(resolved, mav0, bag_path, opts, mass_kg, preset, pngs):
     handlers = []
     for rs in resolved:
         kind = rs.spec.kind
         if kind == "image":
-            h = ImageHandler(rs, mav0, bag_path, opts.png_level)
+            h = ImageHandler(rs, mav0, bag_path, pngs)
         elif kind == "imu":
             h = ImuHandler(rs, mav0, bag_path)
         elif kind == "rotor":
@@ -110,36 +111,47 @@ def convert(opts: Options, log=print) -> dict:
             mav0.mkdir(parents=True, exist_ok=True)
         except OSError as err:
             raise os_error(mav0, err) from None
-        handlers = _make_handlers(resolved, mav0, opts.bag, opts, mass_kg, preset)
-        routes = {}
-        for h in handlers:
-            for index, topic in enumerate(h.rs.source.topics):
-                for conn in bag.connections(topic):
-                    routes.setdefault(conn.id, []).append((h, index, topic, conn.msgtype, bag.deserializer(conn)))
-        conns = [c for c in bag.reader.connections if c.id in routes]
-        images = [h for h in handlers if isinstance(h, ImageHandler)]
-        t0 = start if start is not None else bag.start_ns
-        t1 = stop if stop is not None else bag.end_ns
-        bar = Progress(t1 - t0, opts.progress)
-        wall = time.monotonic()
-        cpu = time.process_time()
+        pngs = PngPool(opts.jobs, opts.png_level)
+        try:
+            handlers = _make_handlers(resolved, mav0, opts.bag, opts, mass_kg, preset, pngs)
+            wall, cpu = _stream(bag, handlers, start, stop, opts, pngs)
+        finally:
+            pngs.close()  # idempotent; on errors it still stops the worker threads
+    finally:
+        bag.close()
+    summary = _summary(opts, profile, handlers, mass_kg, mass_source, wall, cpu, tmap, pngs.png_bytes)
+    _write_calibration(preset, mav0, handlers, mass_kg, mass_source)
+    _write_summary(opts.out / "bag2asl.yaml", summary)
+    _log_summary(summary, log)
+    return summary
+
+
+def _stream(bag, handlers, start, stop, opts, pngs):
+    """Read the bag once, routing each message to its handlers; returns (wall s, CPU s)."""
+    routes = {}
+    for h in handlers:
+        for index, topic in enumerate(h.rs.source.topics):
+            for conn in bag.connections(topic):
+                routes.setdefault(conn.id, []).append((h, index, topic, conn.msgtype, bag.deserializer(conn)))
+    conns = [c for c in bag.reader.connections if c.id in routes]
+    images = [h for h in handlers if isinstance(h, ImageHandler)]
+    t0 = start if start is not None else bag.start_ns
+    t1 = stop if stop is not None else bag.end_ns
+    bar = Progress(t1 - t0, opts.progress)
+    wall = time.monotonic()
+    cpu = time.process_time()
+    try:
         for conn, bag_ns, raw in bag.messages(conns, start, stop):
             for h, index, topic, msgtype, deser in routes[conn.id]:
                 h.feed(index, topic, msgtype, deser(raw), bag_ns)
             bar.update(bag_ns - t0, sum(h.raw_bytes for h in images))
         bar.update(t1 - t0, sum(h.raw_bytes for h in images), force=True)
-        bar.close()
-        for h in handlers:
-            h.finish()
-        wall = time.monotonic() - wall
-        cpu = time.process_time() - cpu
     finally:
-        bag.close()
-    summary = _summary(opts, profile, handlers, mass_kg, mass_source, wall, cpu, tmap)
-    _write_calibration(preset, mav0, handlers, mass_kg, mass_source)
-    _write_summary(opts.out / "bag2asl.yaml", summary)
-    _log_summary(summary, log)
-    return summary
+        bar.close()
+    pngs.close()  # wait for the last PNGs (and their errors) before timing and closing the CSVs
+    for h in handlers:
+        h.finish()
+    return time.monotonic() - wall, time.process_time() - cpu
 
 
 def _write_calibration(preset, mav0, handlers, mass_kg, mass_source) -> None:
@@ -158,9 +170,9 @@ def _write_calibration(preset, mav0, handlers, mass_kg, mass_source) -> None:
                              h.count, rate, h.rs.spec.options.get("noise_density"))
 
 
-def _summary(opts, profile, handlers, mass_kg, mass_source, wall, cpu, tmap) -> dict:
+def _summary(opts, profile, handlers, mass_kg, mass_source, wall, cpu, tmap, png_bytes) -> dict:
     streams = {}
-    image_raw = image_png = 0
+    image_raw = 0
     for h in handlers:
         csv = h.csv
         entry = {"kind": h.rs.spec.kind, "topics": list(h.rs.source.topics),
@@ -177,12 +189,11 @@ def _summary(opts, profile, handlers, mass_kg, mass_source, wall, cpu, tmap) -> 
             entry["frame"] = "rotated by topic-map rotation" if h.R else "sensor frame as recorded"
         if isinstance(h, ImageHandler):
             image_raw += h.raw_bytes
-            image_png += h.png_bytes
         streams[h.name] = entry
     return {"bag": str(opts.bag), "topic_map": str(tmap.path), "profile": profile,
             "mass_kg": mass_kg, "mass_source": mass_source, "streams": streams,
             "wall_s": round(wall, 3), "cpu_s": round(cpu, 3), "image_input_mb": round(image_raw / 1e6, 3),
-            "image_png_mb": round(image_png / 1e6, 3),
+            "image_png_mb": round(png_bytes / 1e6, 3), "png_jobs": opts.jobs,
             "image_mb_per_s": round(image_raw / 1e6 / wall, 2) if wall > 0 else None,
             "image_mb_per_cpu_s": round(image_raw / 1e6 / cpu, 2) if cpu > 0 else None}
 

@@ -13,7 +13,7 @@ import numpy as np
 from . import images
 from .bagio import short_type
 from .errors import ConfigError, UnknownTypeError
-from .sinks import CsvStream, write_png
+from .sinks import CsvStream, PngPool, os_error
 from .topicmap import ResolvedStream
 
 IMU_HEADER = ("#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
@@ -80,12 +80,14 @@ class Handler:
 class ImageHandler(Handler):
     header = CAM_HEADER
 
-    def __init__(self, rs, mav0, bag_path, png_level: int):
+    def __init__(self, rs, mav0, bag_path, pngs: PngPool):
         super().__init__(rs, mav0, bag_path)
-        (self.dir / "data").mkdir(parents=True, exist_ok=True)
-        self.png_level = png_level
+        try:
+            (self.dir / "data").mkdir(parents=True, exist_ok=True)
+        except OSError as err:
+            raise os_error(self.dir / "data", err) from None
+        self.pngs = pngs
         self.raw_bytes = 0
-        self.png_bytes = 0
         self.width = self.height = None
 
     def feed(self, index, topic, msgtype, msg, bag_ns):
@@ -101,7 +103,8 @@ class ImageHandler(Handler):
             self.raw_bytes += len(msg.data)
         self.height, self.width = gray.shape
         name = f"{t}.png"
-        self.png_bytes += write_png(self.dir / "data" / name, gray, self.png_level)
+        # gray may be a view of the message buffer: it is immutable and kept alive by the view
+        self.pngs.submit(self.dir / "data" / name, gray)
         self.csv.write_raw(t, f"{t},{name}\n")
 
 

@@ -100,6 +100,43 @@ def write_png(path: pathlib.Path, gray: np.ndarray, compress_level: int) -> int:
     return len(data)
 
 
+class PngPool:
+    """Encodes and writes PNGs on worker threads (zlib and file writes release the GIL).
+
+    At most 2 x jobs images are in flight, so memory stays bounded; a worker's error (e.g. disk
+    full) is re-raised in the caller at the next submit or at close(). jobs <= 1 writes inline.
+    """
+
+    def __init__(self, jobs: int, compress_level: int):
+        from collections import deque
+        from concurrent.futures import ThreadPoolExecutor
+
+        self.level = compress_level
+        self.jobs = max(1, int(jobs))
+        self.pool = ThreadPoolExecutor(self.jobs) if self.jobs > 1 else None
+        self.pending = deque()
+        self.png_bytes = 0
+
+    def submit(self, path: pathlib.Path, gray: np.ndarray) -> None:
+        if self.pool is None:
+            self.png_bytes += write_png(path, gray, self.level)
+            return
+        self.pending.append(self.pool.submit(write_png, path, gray, self.level))
+        while len(self.pending) > 2 * self.jobs:
+            self.png_bytes += self.pending.popleft().result()
+
+    def close(self) -> None:
+        try:
+            while self.pending:
+                self.png_bytes += self.pending.popleft().result()
+        finally:
+            if self.pool is not None:
+                for f in self.pending:
+                    f.cancel()
+                self.pool.shutdown(wait=True)
+                self.pool = None
+
+
 def remove_quietly(path: pathlib.Path) -> None:
     try:
         os.remove(path)
