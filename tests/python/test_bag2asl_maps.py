@@ -177,3 +177,28 @@ def test_quat_rotate_matches_matrix():
         q /= np.linalg.norm(q)
         v = rng.normal(size=3)
         np.testing.assert_allclose(quat_rotate(q, v), rotation_matrix(q) @ v, atol=1e-12)
+
+
+def test_custom_imu_type_read_by_its_fields(tmp_path):
+    """A vendor IMU type known only from the bag's embedded definition is read by field names."""
+    from rosbags.typesys import get_types_from_msg
+
+    bag = tmp_path / "v.bag"
+    w = BagWriter(bag)
+    w.ts.register(get_types_from_msg("Header header\ngeometry_msgs/Vector3 angular_velocity\n"
+                                     "geometry_msgs/Vector3 linear_acceleration\nfloat32 temperature\n",
+                                     "vendor_msgs/msg/RawImu"))
+    vals = []
+    for k in range(4):
+        t = T0 + k * 1_000_000
+        msg = w.T("vendor_msgs/msg/RawImu")(header=w.header(t), angular_velocity=w.vec3((k, 0.5, -k)),
+                                            linear_acceleration=w.vec3((0.25, k, 9.75)), temperature=30.0)
+        w.write("/vendor/imu", "vendor_msgs/msg/RawImu", t, msg)
+        w.write("/cam0/image_raw", "sensor_msgs/msg/Image", t, w.image(t, "mono8", np.zeros((2, 2), np.uint8)))
+        vals.append((t, [k, 0.5, -k, 0.25, k, 9.75]))
+    w.close()
+    tmap = tmp_path / "map.yaml"
+    tmap.write_text("streams:\n  cam0: {kind: image, topic: /cam0/image_raw}\n  imu0: {kind: imu, topic: /vendor/imu}\n")
+    out = tmp_path / "out"
+    assert main([str(bag), str(out), "--topics", str(tmap), "--mass", "1", "--no-progress"]) == 0
+    assert numeric(out / "mav0" / "imu0" / "data.csv") == vals

@@ -18,13 +18,16 @@ from . import sinks
 from .sinks import PngPool, os_error
 from . import topicmap
 
-# message types each kind accepts (others are reported as unsupported before any data is read)
+# what each kind reads: known types, or any type with these top-level fields (duck typing, so
+# e.g. a custom IMU message with angular_velocity + linear_acceleration works too)
 _ACCEPTED = {
-    "image": ("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage"),
-    "imu": ("sensor_msgs/msg/Imu", "djiros/msg/ImuWithHwTimeStamp"),
-    "groundtruth": ("geometry_msgs/msg/PoseStamped", "geometry_msgs/msg/PoseWithCovarianceStamped",
-                    "geometry_msgs/msg/TransformStamped", "nav_msgs/msg/Odometry"),
-    "force": ("geometry_msgs/msg/WrenchStamped", "geometry_msgs/msg/Wrench", "robotiq_ft_sensor/msg/ft_sensor"),
+    "image": (("sensor_msgs/msg/Image", "sensor_msgs/msg/CompressedImage"), ()),
+    "imu": (("sensor_msgs/msg/Imu", "djiros/msg/ImuWithHwTimeStamp"), (("angular_velocity", "linear_acceleration"),)),
+    "groundtruth": (("geometry_msgs/msg/PoseStamped", "geometry_msgs/msg/PoseWithCovarianceStamped",
+                     "geometry_msgs/msg/TransformStamped", "nav_msgs/msg/Odometry"),
+                    (("transform",), ("pose",))),
+    "force": (("geometry_msgs/msg/WrenchStamped", "geometry_msgs/msg/Wrench", "robotiq_ft_sensor/msg/ft_sensor"),
+              (("wrench",), ("force",), ("Fx", "Fy", "Fz"))),
 }
 
 
@@ -45,15 +48,19 @@ class Options:
 
 def _check_types(bag: Bag, resolved) -> None:
     for rs in resolved:
-        accepted = _ACCEPTED.get(rs.spec.kind)
+        if rs.spec.kind not in _ACCEPTED:
+            continue
+        accepted, field_sets = _ACCEPTED[rs.spec.kind]
         for topic in rs.source.topics:
             for conn in bag.connections(topic):
-                bag.typestore_for(conn)  # raises UnknownTypeError for undefined types
-                if accepted and conn.msgtype not in accepted:
+                store = bag.typestore_for(conn)  # raises UnknownTypeError for undefined types
+                fields = {name for name, _ in store.fielddefs[conn.msgtype][1]}
+                if conn.msgtype not in accepted and not any(set(fs) <= fields for fs in field_sets):
                     raise UnknownTypeError(
                         f"{bag.path}: topic {topic} has type {short_type(conn.msgtype)}, stream "
                         f"{rs.spec.name} (kind {rs.spec.kind}) accepts "
-                        f"{', '.join(short_type(a) for a in accepted)}")
+                        f"{', '.join(short_type(a) for a in accepted)}"
+                        + "".join(f" or a type with field(s) {'+'.join(fs)}" for fs in field_sets))
 
 
 def _make_handlers(resolved, mav0, bag_path, opts, mass_kg, preset, pngs):
