@@ -6,7 +6,6 @@ disk (ENOSPC) never surfaces as a traceback or as a silently short file.
 from __future__ import annotations
 
 import errno
-import os
 import pathlib
 from typing import IO, Iterable
 
@@ -135,10 +134,3 @@ class PngPool:
                     f.cancel()
                 self.pool.shutdown(wait=True)
                 self.pool = None
-
-
-def remove_quietly(path: pathlib.Path) -> None:
-    try:
-        os.remove(path)
-    except OSError:
-        pass
