@@ -1,0 +1,167 @@
+#include "dynamics/quadrotor.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <stdexcept>
+
+#include "dynamics/rotation_helpers.h"
+
+namespace vid::dynamics {
+
+std::vector<RotorParams> QuadrotorParams::symmetric_layout(const std::string& layout,
+                                                           double arm_length,
+                                                           const std::vector<double>& thrust_coeffs,
+                                                           const std::vector<int>& directions,
+                                                           double torque_to_thrust_m) {
+  const std::size_t count = thrust_coeffs.size();
+  if (count < 3) throw std::invalid_argument("rotor layout: need at least 3 thrust coefficients");
+  if (!directions.empty() && directions.size() != count)
+    throw std::invalid_argument("rotor layout: rotor_directions must have one entry per rotor");
+  double offset = 0.0;
+  if (layout == "x") {
+    offset = M_PI / static_cast<double>(count);
+  } else if (layout != "plus") {
+    throw std::invalid_argument("rotor layout: '" + layout + "' is not 'x' or 'plus'");
+  }
+  std::vector<RotorParams> rotors(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double angle = offset + 2.0 * M_PI * static_cast<double>(i) / static_cast<double>(count);
+    rotors[i].position_I = Eigen::Vector3d(arm_length * std::cos(angle), arm_length * std::sin(angle), 0.0);
+    rotors[i].direction = directions.empty() ? (i % 2 == 0 ? 1 : -1) : directions[i];
+    rotors[i].thrust_coeff = thrust_coeffs[i];
+    rotors[i].torque_coeff = torque_to_thrust_m * thrust_coeffs[i];
+  }
+  return rotors;
+}
+
+void QuadrotorParams::validate() const {
+  if (!(mass_kg > 0.0)) throw std::invalid_argument("vehicle: mass_kg must be > 0");
+  if (rotors.size() < 3) throw std::invalid_argument("vehicle: need at least 3 rotors");
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(inertia);
+  if (!(es.eigenvalues().minCoeff() > 0.0))
+    throw std::invalid_argument("vehicle: inertia must be symmetric positive definite");
+  if (motor_time_constant_s < 0.0) throw std::invalid_argument("vehicle: motor_time_constant_s must be >= 0");
+  if (!(rotor_speed_max > rotor_speed_min) || rotor_speed_min < 0.0)
+    throw std::invalid_argument("vehicle: need 0 <= rotor_speed_min < rotor_speed_max");
+  for (const auto& r : rotors) {
+    if (!(r.thrust_coeff > 0.0)) throw std::invalid_argument("vehicle: thrust coefficients must be > 0");
+    if (r.direction != 1 && r.direction != -1)
+      throw std::invalid_argument("vehicle: rotor directions must be +1 or -1");
+  }
+  if (!(gravity > 0.0)) throw std::invalid_argument("vehicle: gravity must be > 0");
+}
+
+QuadrotorModel::QuadrotorModel(QuadrotorParams params) : params_(std::move(params)) {
+  params_.validate();
+}
+
+Eigen::VectorXd QuadrotorModel::rotor_thrusts(const Eigen::VectorXd& n) const {
+  Eigen::VectorXd T(rotor_count());
+  for (int i = 0; i < rotor_count(); ++i) T[i] = params_.rotors[i].thrust_coeff * n[i] * n[i];
+  return T;
+}
+
+void QuadrotorModel::thrust_and_torque(const Eigen::VectorXd& n, Eigen::Vector3d* thrust_I,
+                                       Eigen::Vector3d* torque_I) const {
+  thrust_I->setZero();
+  torque_I->setZero();
+  for (int i = 0; i < rotor_count(); ++i) {
+    const RotorParams& r = params_.rotors[i];
+    const double n2 = n[i] * n[i];
+    const Eigen::Vector3d f(0.0, 0.0, r.thrust_coeff * n2);
+    *thrust_I += f;
+    *torque_I += r.position_I.cross(f);
+    // A rotor spinning counter-clockwise pushes the body clockwise (reaction torque).
+    torque_I->z() -= r.direction * r.torque_coeff * n2;
+  }
+}
+
+Eigen::VectorXd QuadrotorModel::clamp_speeds(const Eigen::VectorXd& n) const {
+  return n.cwiseMax(params_.rotor_speed_min).cwiseMin(params_.rotor_speed_max);
+}
+
+Eigen::MatrixXd QuadrotorModel::allocation_matrix() const {
+  Eigen::MatrixXd A(4, rotor_count());
+  for (int i = 0; i < rotor_count(); ++i) {
+    const RotorParams& r = params_.rotors[i];
+    A(0, i) = r.thrust_coeff;
+    A(1, i) = r.thrust_coeff * r.position_I.y();
+    A(2, i) = -r.thrust_coeff * r.position_I.x();
+    A(3, i) = -r.direction * r.torque_coeff;
+  }
+  return A;
+}
+
+ForceBreakdown QuadrotorModel::forces(double t_s, const QuadrotorState& x,
+                                      const Environment& env) const {
+  ForceBreakdown f;
+  thrust_and_torque(x.rotor_speeds, &f.thrust_I, &f.torque_I);
+  const Eigen::Matrix3d R_WI = x.q_WI.normalized().toRotationMatrix();
+  const Eigen::Vector3d v_I = R_WI.transpose() * x.v_WI;
+  f.drag_W = R_WI * (-params_.linear_drag.cwiseProduct(v_I));
+  f.env_W = env.force_W(t_s, x);
+  f.mass_kg = env.mass_kg(t_s);
+  const Eigen::Vector3d g_W(0.0, 0.0, -params_.gravity);
+  f.accel_W = (R_WI * f.thrust_I + f.external_W()) / f.mass_kg + g_W;
+  return f;
+}
+
+QuadrotorStateDot QuadrotorModel::derivative(double t_s, const QuadrotorState& x,
+                                             const Eigen::VectorXd& n_cmd,
+                                             const Environment& env) const {
+  const ForceBreakdown f = forces(t_s, x, env);
+  QuadrotorStateDot d;
+  d.p_dot = x.v_WI;
+  d.v_dot = f.accel_W;
+  const Eigen::Matrix3d& J = params_.inertia;
+  d.w_dot = J.ldlt().solve(f.torque_I - x.w_I.cross(J * x.w_I));
+  // q_dot = 0.5 q (x) [0, w]
+  const Eigen::Quaterniond qw(0.0, x.w_I.x(), x.w_I.y(), x.w_I.z());
+  const Eigen::Quaterniond qd = x.q_WI * qw;
+  d.q_dot = 0.5 * Eigen::Vector4d(qd.w(), qd.x(), qd.y(), qd.z());
+  if (params_.motor_time_constant_s > 0.0) {
+    d.n_dot = (clamp_speeds(n_cmd) - x.rotor_speeds) / params_.motor_time_constant_s;
+  } else {
+    d.n_dot = Eigen::VectorXd::Zero(rotor_count());
+  }
+  return d;
+}
+
+namespace {
+
+QuadrotorState add_scaled(const QuadrotorState& x, const QuadrotorStateDot& d, double h) {
+  QuadrotorState y;
+  y.p_WI = x.p_WI + h * d.p_dot;
+  y.v_WI = x.v_WI + h * d.v_dot;
+  y.w_I = x.w_I + h * d.w_dot;
+  Eigen::Vector4d q(x.q_WI.w(), x.q_WI.x(), x.q_WI.y(), x.q_WI.z());
+  q += h * d.q_dot;
+  // Stage quaternions are not renormalised: RK4 treats q as a plain 4-vector ODE.
+  y.q_WI = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+  y.rotor_speeds = x.rotor_speeds + h * d.n_dot;
+  return y;
+}
+
+}  // namespace
+
+QuadrotorState QuadrotorModel::rk4_step(double t_s, double dt_s, const QuadrotorState& x0,
+                                        const Eigen::VectorXd& n_cmd,
+                                        const Environment& env) const {
+  QuadrotorState x = x0;
+  if (params_.motor_time_constant_s <= 0.0) x.rotor_speeds = clamp_speeds(n_cmd);
+  const QuadrotorStateDot k1 = derivative(t_s, x, n_cmd, env);
+  const QuadrotorStateDot k2 = derivative(t_s + 0.5 * dt_s, add_scaled(x, k1, 0.5 * dt_s), n_cmd, env);
+  const QuadrotorStateDot k3 = derivative(t_s + 0.5 * dt_s, add_scaled(x, k2, 0.5 * dt_s), n_cmd, env);
+  const QuadrotorStateDot k4 = derivative(t_s + dt_s, add_scaled(x, k3, dt_s), n_cmd, env);
+  QuadrotorStateDot sum;
+  sum.p_dot = k1.p_dot + 2.0 * k2.p_dot + 2.0 * k3.p_dot + k4.p_dot;
+  sum.v_dot = k1.v_dot + 2.0 * k2.v_dot + 2.0 * k3.v_dot + k4.v_dot;
+  sum.w_dot = k1.w_dot + 2.0 * k2.w_dot + 2.0 * k3.w_dot + k4.w_dot;
+  sum.q_dot = k1.q_dot + 2.0 * k2.q_dot + 2.0 * k3.q_dot + k4.q_dot;
+  sum.n_dot = k1.n_dot + 2.0 * k2.n_dot + 2.0 * k3.n_dot + k4.n_dot;
+  QuadrotorState y = add_scaled(x, sum, dt_s / 6.0);
+  y.q_WI.normalize();
+  return y;
+}
+
+}  // namespace vid::dynamics

@@ -1,0 +1,54 @@
+#pragma once
+/// @file dataset_sink.h
+/// @brief SimSink that writes a DESIGN §4 folder through vid::io::DatasetWriter, forwarding
+/// camera triggers to the visual output (rendered images and/or feat0 + landmarks.csv).
+
+#include <filesystem>
+#include <memory>
+
+#include "io/dataset_writer.h"
+#include "sim/scenario.h"
+#include "sim/simulator.h"
+
+namespace vid::sim {
+
+/// @brief Produces camera data at a camera trigger (images, features). Implemented on top of
+/// the render module in visual_output.cpp.
+class VisualOutput {
+ public:
+  virtual ~VisualOutput() = default;
+  virtual void on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI,
+                         io::DatasetWriter& writer) = 0;
+  /// @brief Write end-of-run files (landmarks.csv) into mav0.
+  virtual void finish(io::DatasetWriter& writer) = 0;
+};
+
+/// @brief Visual output of a scenario, or nullptr when it has no cameras. Throws
+/// std::runtime_error if images/features are requested but the render module is missing.
+std::unique_ptr<VisualOutput> make_visual_output(const Scenario& scenario);
+
+/// @brief Writes every stream of a scenario into root/mav0/...
+class DatasetSink : public SimSink {
+ public:
+  /// @param visual may be null (no camera data).
+  DatasetSink(const std::filesystem::path& root, const Scenario& scenario,
+              std::unique_ptr<VisualOutput> visual);
+  ~DatasetSink() override;
+  void on_imu(const ImuSample& s) override { writer_.write(s); }
+  void on_rotor(const RotorSample& s) override { writer_.write(s); }
+  void on_groundtruth(const GroundTruthSample& s) override { writer_.write(s); }
+  void on_force(const ForceSample& s) override { writer_.write(s); }
+  void on_mass(const MassSample& s) override { writer_.write(s); }
+  void on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI) override;
+  /// @brief Write landmarks and close all files.
+  void finish();
+  std::uint64_t camera_frames() const { return frames_; }
+
+ private:
+  io::DatasetWriter writer_;
+  std::unique_ptr<VisualOutput> visual_;
+  std::uint64_t frames_ = 0;
+  bool finished_ = false;
+};
+
+}  // namespace vid::sim

@@ -1,0 +1,82 @@
+#pragma once
+/// @file scenario.h
+/// @brief A simulation scenario (config/sim/*.yaml): vehicle, controller, trajectory,
+/// environment, sensors, cameras, plus the raw scene/render/features sections that the
+/// render module parses. Keys are documented in config/sim/README.md.
+
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "dynamics/quadrotor.h"
+#include "sim/controller.h"
+#include "sim/environment.h"
+#include "sim/trajectory.h"
+#include "vio_core/calibration.h"
+#include "vio_core/measurements.h"
+
+namespace vid::sim {
+
+/// @brief IMU sensor: EuRoC/Kalibr noise plus the initial biases.
+struct ImuConfig {
+  ImuNoise noise;  ///< rate_hz, densities, random walks
+  Eigen::Vector3d initial_gyro_bias = Eigen::Vector3d::Zero();   ///< [rad/s]
+  Eigen::Vector3d initial_accel_bias = Eigen::Vector3d::Zero();  ///< [m/s^2]
+};
+
+/// @brief Rotor speed sensor; unit must match the vehicle's rotor speed unit.
+struct RotorConfig {
+  bool enabled = true;
+  RotorSensor sensor;
+};
+
+/// @brief Cameras (same rate, synchronised).
+struct CamerasConfig {
+  double rate_hz = 30.0;
+  std::vector<CameraCalib> cameras;
+  bool images = true;    ///< render images (off: feature-only)
+  bool features = true;  ///< write feat0 (feature-level measurements) + landmarks.csv
+};
+
+/// @brief Everything vid_sim needs to produce one sequence.
+struct Scenario {
+  std::string file;          ///< source file (for messages)
+  std::string name;
+  std::uint64_t seed = 1;
+  double duration_s = 60.0;
+  TimeNs start_time_ns = 1'700'000'000'000'000'000LL;
+  bool noise = true;         ///< false: every sensor noise and random walk off
+  double physics_max_step_s = 0.001;
+  double control_rate_hz = 500.0;
+
+  dynamics::QuadrotorParams vehicle;
+  std::string rotor_unit = "rpm";
+  ControllerGains gains;
+  TrajectoryConfig trajectory;
+  EnvironmentConfig environment;
+
+  ImuConfig imu;
+  RotorConfig rotor;
+  double groundtruth_rate_hz = 200.0;
+  CamerasConfig cameras;
+
+  YAML::Node scene_node;     ///< raw `scene:` section (may be null)
+  YAML::Node render_node;    ///< raw `render:` section (may be null)
+  YAML::Node features_node;  ///< raw `features:` section (may be null)
+};
+
+/// @brief Load and validate a scenario file. Unknown keys, wrong types and bad values throw
+/// vid::io::ConfigError "FILE: key 'a.b': message".
+Scenario load_scenario(const std::filesystem::path& file);
+
+/// @brief Same from a YAML string; @p name stands for the file in messages.
+Scenario load_scenario_string(const std::string& text, const std::string& name);
+
+/// @brief Vehicle parameters for vehicle.yaml (mass, gravity, k_i).
+VehicleParams vehicle_params_of(const Scenario& s);
+
+}  // namespace vid::sim

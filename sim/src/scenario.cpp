@@ -1,0 +1,318 @@
+/// @file scenario.cpp
+/// @brief Scenario YAML -> Scenario (strict keys). Vehicle/controller parsing lives in
+/// scenario_vehicle.cpp.
+
+#include "sim/scenario.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "io/errors.h"
+#include "scenario_parts.h"
+#include "yaml_section.h"
+
+namespace vid::sim {
+
+namespace detail {
+
+namespace {
+
+Eigen::Vector4d vec4(const YamlSection& s, const std::string& key, const Eigen::Vector4d& fallback) {
+  if (!s.has(key)) {
+    s.raw(key);
+    return fallback;
+  }
+  const auto v = s.nums(key, 4);
+  return Eigen::Vector4d(v[0], v[1], v[2], v[3]);
+}
+
+}  // namespace
+
+void parse_trajectory(const YamlSection& t, const std::filesystem::path& base_dir, TrajectoryConfig* c) {
+  c->type = t.str("type", c->type);
+  c->center = t.vec3("center", c->center);
+  c->radius_m = t.num("radius_m", c->radius_m);
+  c->height_amplitude_m = t.num("height_amplitude_m", c->height_amplitude_m);
+  c->max_speed = t.num("max_speed", c->max_speed);
+  c->max_accel = t.num("max_accel", c->max_accel);
+  c->ramp_s = t.num("ramp_s", c->ramp_s);
+  c->start_delay_s = t.num("start_delay_s", c->start_delay_s);
+  const std::string yaw = t.str("yaw", "fixed");
+  if (yaw == "fixed") {
+    c->yaw_mode = YawMode::kFixed;
+  } else if (yaw == "follow") {
+    c->yaw_mode = YawMode::kFollow;
+  } else if (yaw == "rate") {
+    c->yaw_mode = YawMode::kRate;
+  } else {
+    t.fail("yaw", "expected fixed, follow or rate, got '" + yaw + "'");
+  }
+  c->yaw0 = t.num("yaw0", c->yaw0);
+  c->yaw_rate = t.num("yaw_rate", c->yaw_rate);
+  c->zigzag_length_m = t.num("zigzag_length_m", c->zigzag_length_m);
+  c->zigzag_width_m = t.num("zigzag_width_m", c->zigzag_width_m);
+  c->zigzag_legs = t.integer("zigzag_legs", c->zigzag_legs);
+  c->box_min = t.vec3("box_min", c->box_min);
+  c->box_max = t.vec3("box_max", c->box_max);
+  c->waypoint_spacing_s = t.num("waypoint_spacing_s", c->waypoint_spacing_s);
+  c->random_yaw_amplitude = t.num("random_yaw_amplitude", c->random_yaw_amplitude);
+  const std::string file = t.str("file", "");
+  if (!file.empty()) {
+    const std::filesystem::path p(file);
+    c->file = (p.is_absolute() ? p : base_dir / p).string();
+  }
+  c->fit_knot_spacing_s = t.num("fit_knot_spacing_s", c->fit_knot_spacing_s);
+  t.finish();
+  if (c->type == "file" && c->file.empty()) t.fail("file", "type 'file' needs a TUM file");
+  if (!(c->max_speed > 0.0)) t.fail("max_speed", "must be > 0");
+  if (!(c->max_accel > 0.0)) t.fail("max_accel", "must be > 0");
+  if (c->ramp_s < 0.0) t.fail("ramp_s", "must be >= 0");
+  if (c->start_delay_s < 0.0) t.fail("start_delay_s", "must be >= 0");
+}
+
+void parse_forces(const YamlSection& f, EnvironmentConfig* e) {
+  if (f.has("rope")) {
+    const YamlSection r = f.sub("rope");
+    e->rope.enabled = r.flag("enabled", true);
+    e->rope.anchor_W = r.vec3("anchor", e->rope.anchor_W);
+    e->rope.rest_length_m = r.num("rest_length_m", e->rope.rest_length_m);
+    e->rope.stiffness_N_per_m = r.num("stiffness_N_per_m", e->rope.stiffness_N_per_m);
+    e->rope.damping_Ns_per_m = r.num("damping_Ns_per_m", e->rope.damping_Ns_per_m);
+    e->rope.damping_ramp_m = r.num("damping_ramp_m", e->rope.damping_ramp_m);
+    r.finish();
+    if (!(e->rope.rest_length_m >= 0.0)) r.fail("rest_length_m", "must be >= 0");
+    if (!(e->rope.stiffness_N_per_m >= 0.0)) r.fail("stiffness_N_per_m", "must be >= 0");
+    if (!(e->rope.damping_Ns_per_m >= 0.0)) r.fail("damping_Ns_per_m", "must be >= 0");
+  } else {
+    f.raw("rope");
+  }
+  if (f.has("wind")) {
+    const YamlSection w = f.sub("wind");
+    e->wind.enabled = w.flag("enabled", true);
+    e->wind.mean_mps = w.vec3("mean_mps", e->wind.mean_mps);
+    e->wind.gust_std_mps = w.num("gust_std_mps", e->wind.gust_std_mps);
+    e->wind.gust_time_constant_s = w.num("gust_time_constant_s", e->wind.gust_time_constant_s);
+    e->wind.drag_N_per_mps = w.num("drag_N_per_mps", e->wind.drag_N_per_mps);
+    w.finish();
+    if (e->wind.gust_std_mps < 0.0) w.fail("gust_std_mps", "must be >= 0");
+    if (!(e->wind.gust_time_constant_s > 0.0)) w.fail("gust_time_constant_s", "must be > 0");
+  } else {
+    f.raw("wind");
+  }
+  for (const YamlSection& p : f.list("pushes")) {
+    PushConfig push;
+    push.t_s = p.num("t_s");
+    push.force_N = p.vec3("force_N", push.force_N);
+    push.duration_s = p.num("duration_s", push.duration_s);
+    p.finish();
+    if (!(push.duration_s > 0.0)) p.fail("duration_s", "must be > 0");
+    e->pushes.push_back(push);
+  }
+  f.finish();
+}
+
+void parse_mass(const YamlSection& m, EnvironmentConfig* e) {
+  for (const YamlSection& p : m.list("payloads")) {
+    PayloadEvent ev;
+    ev.t_s = p.num("t_s");
+    ev.delta_kg = p.num("delta_kg");
+    ev.ramp_s = p.num("ramp_s", ev.ramp_s);
+    p.finish();
+    if (ev.ramp_s < 0.0) p.fail("ramp_s", "must be >= 0");
+    e->payloads.push_back(ev);
+  }
+  if (m.has("loss")) {
+    const YamlSection l = m.sub("loss");
+    e->mass_loss.rate_kg_per_s = l.num("rate_kg_per_s");
+    e->mass_loss.start_s = l.num("start_s", 0.0);
+    e->mass_loss.end_s = l.num("end_s");
+    l.finish();
+    if (e->mass_loss.rate_kg_per_s < 0.0) l.fail("rate_kg_per_s", "must be >= 0");
+    if (e->mass_loss.end_s < e->mass_loss.start_s) l.fail("end_s", "must be >= start_s");
+  } else {
+    m.raw("loss");
+  }
+  m.finish();
+}
+
+void parse_sensors(const YamlSection& root, Scenario* s) {
+  {
+    const YamlSection i = root.sub("imu");
+    ImuNoise& n = s->imu.noise;
+    n.rate_hz = i.num("rate_hz", 400.0);
+    n.gyro_noise_density = i.num("gyroscope_noise_density", n.gyro_noise_density);
+    n.gyro_random_walk = i.num("gyroscope_random_walk", n.gyro_random_walk);
+    n.accel_noise_density = i.num("accelerometer_noise_density", n.accel_noise_density);
+    n.accel_random_walk = i.num("accelerometer_random_walk", n.accel_random_walk);
+    s->imu.initial_gyro_bias = i.vec3("initial_gyro_bias", s->imu.initial_gyro_bias);
+    s->imu.initial_accel_bias = i.vec3("initial_accel_bias", s->imu.initial_accel_bias);
+    i.finish();
+    if (!(n.rate_hz > 0.0)) i.fail("rate_hz", "must be > 0");
+    for (const char* k : {"gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density",
+                          "accelerometer_random_walk"}) {
+      if (i.num(k, 0.0) < 0.0) i.fail(k, "must be >= 0");
+    }
+  }
+  {
+    const YamlSection r = root.sub("rotor_sensor");
+    s->rotor.enabled = r.flag("enabled", true);
+    s->rotor.sensor.rate_hz = r.num("rate_hz", 100.0);
+    s->rotor.sensor.noise_density = r.num("noise_density", s->rotor.sensor.noise_density);
+    r.finish();
+    if (!(s->rotor.sensor.rate_hz > 0.0)) r.fail("rate_hz", "must be > 0");
+    if (s->rotor.sensor.noise_density < 0.0) r.fail("noise_density", "must be >= 0");
+  }
+  {
+    const YamlSection g = root.sub("groundtruth");
+    s->groundtruth_rate_hz = g.num("rate_hz", 200.0);
+    g.finish();
+    if (!(s->groundtruth_rate_hz >= 200.0)) g.fail("rate_hz", "must be >= 200");
+  }
+  {
+    const YamlSection c = root.sub("cameras");
+    s->cameras.rate_hz = c.num("rate_hz", 30.0);
+    s->cameras.images = c.flag("images", true);
+    s->cameras.features = c.flag("features", true);
+    int id = 0;
+    for (const YamlSection& k : c.list("list")) {
+      CameraCalib cal;
+      cal.cam_id = id++;
+      cal.rate_hz = s->cameras.rate_hz;
+      if (k.has("resolution")) {
+        const auto r = k.nums("resolution", 2);
+        cal.width = static_cast<int>(r[0]);
+        cal.height = static_cast<int>(r[1]);
+      } else {
+        k.raw("resolution");
+      }
+      cal.intrinsics = vec4(k, "intrinsics", cal.intrinsics);
+      const std::string model = k.str("distortion_model", "radtan");
+      if (model == "radtan" || model == "radial-tangential") {
+        cal.distortion = DistortionModel::kRadTan;
+      } else if (model == "equidistant") {
+        cal.distortion = DistortionModel::kEquidistant;
+      } else if (model == "none") {
+        cal.distortion = DistortionModel::kNone;
+      } else {
+        k.fail("distortion_model", "expected radtan, equidistant or none");
+      }
+      cal.distortion_coeffs = vec4(k, "distortion_coeffs", cal.distortion_coeffs);
+      const bool has_ic = k.has("T_imu_cam"), has_ci = k.has("T_cam_imu");
+      if (has_ic == has_ci) k.fail("T_imu_cam", "give exactly one of T_imu_cam (pose of the camera in I) or T_cam_imu (Kalibr)");
+      const Eigen::Matrix4d T = has_ic ? k.mat4("T_imu_cam") : Eigen::Matrix4d(k.mat4("T_cam_imu").inverse());
+      if (has_ic) k.raw("T_cam_imu"); else k.raw("T_imu_cam");
+      cal.T_IC.matrix() = T;
+      cal.timeshift_cam_imu_s = k.num("timeshift_cam_imu", 0.0);
+      k.finish();
+      if (cal.width < 16 || cal.height < 16) k.fail("resolution", "too small");
+      if (!(cal.intrinsics[0] > 0.0 && cal.intrinsics[1] > 0.0)) k.fail("intrinsics", "focal lengths must be > 0");
+      s->cameras.cameras.push_back(cal);
+    }
+    c.finish();
+    if (!(s->cameras.rate_hz > 0.0)) c.fail("rate_hz", "must be > 0");
+  }
+}
+
+}  // namespace detail
+
+Scenario load_scenario_string(const std::string& text, const std::string& name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw io::ConfigError(name + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+  }
+  if (!root.IsMap()) throw io::ConfigError(name + ": expected a mapping at the top level");
+  if (root["base"]) throw io::ConfigError(name + ": key 'base': only supported when loading from a file");
+  return detail::scenario_from_node(root, name);
+}
+
+Scenario detail::scenario_from_node(const YAML::Node& root, const std::string& name) {
+  using detail::YamlSection;
+  const YamlSection r(root, name, "");
+  Scenario s;
+  s.file = name;
+  s.name = r.str("name", std::filesystem::path(name).stem().string());
+  s.seed = r.u64("seed", s.seed);
+  s.duration_s = r.num("duration_s", s.duration_s);
+  s.start_time_ns = static_cast<TimeNs>(r.u64("start_time_ns", static_cast<std::uint64_t>(s.start_time_ns)));
+  s.noise = r.flag("noise", true);
+  {
+    const YamlSection p = r.sub("physics");
+    s.physics_max_step_s = p.num("max_step_s", s.physics_max_step_s);
+    s.control_rate_hz = p.num("control_rate_hz", s.control_rate_hz);
+    p.finish();
+    if (!(s.physics_max_step_s > 0.0 && s.physics_max_step_s <= 0.001)) p.fail("max_step_s", "must be in (0, 0.001] (>= 1 kHz)");
+    if (!(s.control_rate_hz > 0.0)) p.fail("control_rate_hz", "must be > 0");
+  }
+  const std::filesystem::path base = std::filesystem::path(name).parent_path();
+  detail::parse_vehicle(r.sub("vehicle"), &s);
+  detail::parse_controller(r.sub("controller"), &s.gains);
+  detail::parse_trajectory(r.sub("trajectory"), base, &s.trajectory);
+  s.trajectory.duration_s = s.duration_s;
+  s.trajectory.seed = s.seed;
+  detail::parse_forces(r.sub("forces"), &s.environment);
+  detail::parse_mass(r.sub("mass"), &s.environment);
+  detail::parse_sensors(r, &s);
+  s.rotor.sensor.unit = s.rotor_unit;
+  s.rotor.sensor.count = static_cast<int>(s.vehicle.rotors.size());
+  s.scene_node = r.raw("scene");
+  s.render_node = r.raw("render");
+  s.features_node = r.raw("features");
+  r.finish();
+  if (!(s.duration_s > 0.0)) r.fail("duration_s", "must be > 0");
+  return s;
+}
+
+namespace {
+
+/// @brief Overlay @p over onto @p base: maps merge key by key, anything else replaces.
+YAML::Node merge_nodes(const YAML::Node& base, const YAML::Node& over) {
+  if (!base.IsMap() || !over.IsMap()) return YAML::Clone(over);
+  YAML::Node out = YAML::Clone(base);
+  for (const auto& kv : over) {
+    const std::string k = kv.first.Scalar();
+    out[k] = out[k] ? merge_nodes(out[k], kv.second) : YAML::Clone(kv.second);
+  }
+  return out;
+}
+
+/// @brief Parse a file and resolve its `base:` chain (paths relative to the file).
+YAML::Node load_with_base(const std::filesystem::path& file, int depth) {
+  if (depth > 8) throw io::ConfigError(file.string() + ": key 'base': chain deeper than 8 files");
+  std::ifstream in(file);
+  if (!in) throw io::ConfigError(file.string() + ": cannot open scenario file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  YAML::Node root;
+  try {
+    root = YAML::Load(ss.str());
+  } catch (const YAML::Exception& e) {
+    throw io::ConfigError(file.string() + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+  }
+  if (!root.IsMap()) throw io::ConfigError(file.string() + ": expected a mapping at the top level");
+  if (!root["base"]) return root;
+  if (!root["base"].IsScalar()) throw io::ConfigError(file.string() + ": key 'base': expected a file name");
+  std::filesystem::path base_file(root["base"].Scalar());
+  if (base_file.is_relative()) base_file = file.parent_path() / base_file;
+  root.remove("base");
+  return merge_nodes(load_with_base(base_file, depth + 1), root);
+}
+
+}  // namespace
+
+Scenario load_scenario(const std::filesystem::path& file) {
+  const YAML::Node root = load_with_base(file, 0);
+  return detail::scenario_from_node(root, file.string());
+}
+
+VehicleParams vehicle_params_of(const Scenario& s) {
+  VehicleParams v;
+  v.mass_kg = s.vehicle.mass_kg;
+  v.gravity = s.vehicle.gravity;
+  for (const auto& r : s.vehicle.rotors) v.rotor_thrust_coefficients.push_back(r.thrust_coeff);
+  return v;
+}
+
+}  // namespace vid::sim

@@ -1,0 +1,21 @@
+#pragma once
+/// @file scenario_parts.h
+/// @brief Section parsers of the scenario loader (private to sim).
+
+#include <filesystem>
+
+#include "sim/scenario.h"
+#include "yaml_section.h"
+
+namespace vid::sim::detail {
+
+void parse_vehicle(const YamlSection& v, Scenario* s);
+void parse_controller(const YamlSection& c, ControllerGains* g);
+void parse_trajectory(const YamlSection& t, const std::filesystem::path& base_dir, TrajectoryConfig* c);
+void parse_forces(const YamlSection& f, EnvironmentConfig* e);
+void parse_mass(const YamlSection& m, EnvironmentConfig* e);
+void parse_sensors(const YamlSection& root, Scenario* s);
+/// @brief Build a Scenario from a parsed (base-merged) root mapping; name = file for messages.
+Scenario scenario_from_node(const YAML::Node& root, const std::string& name);
+
+}  // namespace vid::sim::detail

@@ -1,0 +1,153 @@
+#include "sim/simulator.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "sim/sensors.h"
+
+namespace vid::sim {
+
+namespace {
+
+/// @brief Sample times t_k = start + round(k * 1e9 / rate) of one stream.
+class Schedule {
+ public:
+  Schedule(TimeNs start, double rate_hz, bool enabled) : start_(start), rate_(rate_hz), enabled_(enabled) {}
+  TimeNs next() const {
+    if (!enabled_) return std::numeric_limits<TimeNs>::max();
+    return start_ + static_cast<TimeNs>(std::llround(static_cast<long double>(k_) * 1e9L / rate_));
+  }
+  bool due(TimeNs t) const { return enabled_ && next() == t; }
+  std::uint64_t index() const { return k_; }
+  void advance() { ++k_; }
+
+ private:
+  TimeNs start_;
+  long double rate_;
+  bool enabled_;
+  std::uint64_t k_ = 0;
+};
+
+constexpr std::uint64_t kImuStream = 1, kRotorStream = 2, kEnvStream = 3;
+
+}  // namespace
+
+Simulator::Simulator(const Scenario& scenario) : scenario_(scenario) {
+  model_ = std::make_unique<dynamics::QuadrotorModel>(scenario_.vehicle);
+  trajectory_ = make_trajectory(scenario_.trajectory);
+  environment_ = std::make_unique<SimEnvironment>(scenario_.environment, scenario_.vehicle.mass_kg,
+                                                  scenario_.duration_s, derive_seed(scenario_.seed, kEnvStream));
+}
+
+Simulator::~Simulator() = default;
+
+dynamics::QuadrotorState Simulator::initial_state() const {
+  const FlatOutput r = trajectory_->eval(0.0);
+  dynamics::QuadrotorState x;
+  x.p_WI = r.p;
+  x.v_WI = r.v;
+  x.rotor_speeds = Eigen::VectorXd::Zero(model_->rotor_count());
+  GeometricController ctrl(*model_, scenario_.gains);
+  // The initial external force (e.g. a taut rope) depends on the state: two fixed-point passes.
+  Eigen::Vector3d f_ext = environment_->force_W(0.0, x);
+  Eigen::Matrix3d R;
+  Eigen::Vector3d w, dw;
+  for (int it = 0; it < 3; ++it) {
+    ctrl.flat_attitude(*trajectory_, 0.0, f_ext, &R, &w, &dw);
+    x.q_WI = Eigen::Quaterniond(R);
+    x.w_I = w;
+    x.rotor_speeds.setConstant(0.0);
+    f_ext = model_->forces(0.0, x, *environment_).external_W();
+  }
+  const double m = environment_->mass_kg(0.0);
+  const Eigen::Vector3d g_W(0.0, 0.0, -scenario_.vehicle.gravity);
+  const Eigen::Vector3d F = m * (r.a - g_W) - f_ext;
+  const Eigen::Matrix3d& J = scenario_.vehicle.inertia;
+  x.rotor_speeds = ctrl.allocate(F.dot(R.col(2)), J * dw + w.cross(J * w));
+  return x;
+}
+
+void Simulator::run(SimSink& sink, const std::function<void(double, double)>& progress) {
+  const Scenario& sc = scenario_;
+  const TimeNs t0 = sc.start_time_ns;
+  const TimeNs t_end = t0 + static_cast<TimeNs>(std::llround(sc.duration_s * 1e9));
+  const TimeNs max_step = static_cast<TimeNs>(std::llround(sc.physics_max_step_s * 1e9));
+
+  Schedule imu_s(t0, sc.imu.noise.rate_hz, true);
+  Schedule rotor_s(t0, sc.rotor.sensor.rate_hz, sc.rotor.enabled);
+  Schedule gt_s(t0, sc.groundtruth_rate_hz, true);
+  Schedule cam_s(t0, sc.cameras.rate_hz, !sc.cameras.cameras.empty());
+  Schedule ctrl_s(t0, sc.control_rate_hz, true);
+
+  ImuModel imu(sc.imu, sc.noise, derive_seed(sc.seed, kImuStream));
+  RotorSensorModel rotor(sc.rotor.sensor, sc.noise, derive_seed(sc.seed, kRotorStream));
+  GeometricController ctrl(*model_, sc.gains);
+
+  dynamics::QuadrotorState x = initial_state();
+  Eigen::VectorXd n_cmd = x.rotor_speeds;
+  const Eigen::Vector3d g_W(0.0, 0.0, -sc.vehicle.gravity);
+  TimeNs t = t0;
+  TimeNs last_ctrl = t0;
+  double last_progress = -1.0;
+
+  while (true) {
+    const double ts = static_cast<double>(t - t0) * 1e-9;
+    const dynamics::ForceBreakdown f = model_->forces(ts, x, *environment_);
+    const Eigen::Matrix3d R_WI = x.q_WI.toRotationMatrix();
+
+    // Samples at this exact physics time, all from the same state.
+    if (imu_s.due(t)) {
+      sink.on_imu(imu.measure(t, x.w_I, R_WI.transpose() * (f.accel_W - g_W)));
+    }
+    if (rotor_s.due(t)) {
+      sink.on_rotor(rotor.measure(t, x.rotor_speeds));
+      rotor_s.advance();
+    }
+    if (gt_s.due(t)) {
+      GroundTruthSample gt;
+      gt.t_ns = t;
+      gt.p_WI = x.p_WI;
+      gt.q_WI = x.q_WI;
+      gt.v_WI = x.v_WI;
+      gt.b_g = imu.gyro_bias();
+      gt.b_a = imu.accel_bias();
+      sink.on_groundtruth(gt);
+      sink.on_force(ForceSample{t, f.external_W()});
+      sink.on_mass(MassSample{t, f.mass_kg});
+      sink.on_truth(TruthSample{t, x, f, imu.gyro_bias(), imu.accel_bias()});
+      gt_s.advance();
+    }
+    if (imu_s.due(t)) {  // bias walks after the sample and its ground truth
+      imu.step_bias();
+      imu_s.advance();
+    }
+    if (cam_s.due(t)) {
+      Eigen::Isometry3d T_WI = Eigen::Isometry3d::Identity();
+      T_WI.linear() = R_WI;
+      T_WI.translation() = x.p_WI;
+      sink.on_camera(t, cam_s.index(), T_WI);
+      cam_s.advance();
+    }
+    if (ctrl_s.due(t)) {
+      ControllerInput in{ts, x, f.accel_W};
+      n_cmd = ctrl.update(in, *trajectory_, static_cast<double>(t - last_ctrl) * 1e-9);
+      last_ctrl = t;
+      ctrl_s.advance();
+    }
+    if (progress && ts - last_progress >= 0.1) {
+      progress(ts, sc.duration_s);
+      last_progress = ts;
+    }
+    if (t >= t_end) break;
+
+    TimeNs t_next = std::min({t + max_step, t_end, imu_s.next(), rotor_s.next(), gt_s.next(), cam_s.next(),
+                              ctrl_s.next()});
+    const double h = static_cast<double>(t_next - t) * 1e-9;
+    x = model_->rk4_step(ts, h, x, n_cmd, *environment_);
+    t = t_next;
+  }
+  if (progress) progress(sc.duration_s, sc.duration_s);
+}
+
+}  // namespace vid::sim

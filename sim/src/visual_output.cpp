@@ -1,0 +1,103 @@
+/// @file visual_output.cpp
+/// @brief Camera data of a scenario through the render module: rendered images and, when
+/// the feature simulator is available, feat0 + landmarks.csv. The one place where the
+/// simulator calls into sim/render.
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "sim/dataset_sink.h"
+#include "sim/render/random.h"
+#include "sim/render/renderer.h"
+#include "sim/render/scene.h"
+#if __has_include("sim/render/feature_simulator.h")
+#include "sim/render/feature_simulator.h"
+#define VID_SIM_HAS_FEATURES 1
+#endif
+
+namespace vid::sim {
+
+namespace {
+
+constexpr std::uint64_t kRenderStream = 4, kFeatureStream = 5;
+
+/// @brief A section node, or an empty map when the scenario has none (= all defaults).
+YAML::Node section(const YAML::Node& n) { return (n && !n.IsNull()) ? n : YAML::Node(YAML::NodeType::Map); }
+
+class RenderedOutput : public VisualOutput {
+ public:
+  explicit RenderedOutput(const Scenario& sc)
+      : sc_(sc),
+        scene_(parse_scene_config(section(sc.scene_node), sc.file)),
+        render_cfg_(parse_render_config(section(sc.render_node), sc.file)) {
+    render_cfg_.seed = derive_seed(render_cfg_.seed ^ sc.seed, kRenderStream);
+    if (!sc.noise) {
+      render_cfg_.noise_sigma = 0.0;
+      render_cfg_.brightness_jitter = 0.0;
+    }
+    if (sc.cameras.images) {
+      for (const CameraCalib& c : sc.cameras.cameras)
+        renderers_.push_back(std::make_unique<Renderer>(scene_, c, render_cfg_.supersampling));
+    }
+#ifdef VID_SIM_HAS_FEATURES
+    FeatureSimConfig fc =
+        parse_feature_sim_config(section(sc.features_node), sc.file);
+    fc.seed = derive_seed(fc.seed ^ sc.seed, kFeatureStream);
+    if (!sc.noise) fc.pixel_noise_sigma = 0.0;
+    if (sc.cameras.features) features_ = std::make_unique<FeatureSimulator>(scene_, sc.cameras.cameras, fc);
+#else
+    if (sc.cameras.features && !sc.cameras.images)
+      throw std::runtime_error(sc.file + ": feature-level output needs the feature simulator (not built)");
+#endif
+  }
+
+  void on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI,
+                 io::DatasetWriter& writer) override {
+    for (std::size_t i = 0; i < renderers_.size(); ++i) {
+      const CameraCalib& c = sc_.cameras.cameras[i];
+      const Eigen::Isometry3d T_WC = T_WI * c.T_IC;
+      const FrameAppearance app = appearance_for_frame(render_cfg_, t_ns, c.cam_id, frame_index);
+      renderers_[i]->render(T_WC, app, &image_);
+      writer.write_image(c.cam_id, t_ns, image_);
+    }
+#ifdef VID_SIM_HAS_FEATURES
+    if (features_) writer.write(features_->step(t_ns, T_WI));
+#endif
+  }
+
+  /// @brief landmarks.csv: every landmark the feature simulator created (id == feature id).
+  void finish(io::DatasetWriter& writer) override {
+#ifdef VID_SIM_HAS_FEATURES
+    if (!features_) return;
+    const std::filesystem::path path = writer.mav0() / "landmarks.csv";
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    if (!f) throw std::runtime_error(path.string() + ": cannot write");
+    std::fprintf(f, "#id,x,y,z\n");
+    for (const Landmark& l : features_->landmarks())
+      std::fprintf(f, "%llu,%.17g,%.17g,%.17g\n", static_cast<unsigned long long>(l.id), l.p_W.x(), l.p_W.y(),
+                   l.p_W.z());
+    if (std::fclose(f) != 0) throw std::runtime_error(path.string() + ": write failed");
+#else
+    (void)writer;
+#endif
+  }
+
+ private:
+  const Scenario& sc_;
+  Scene scene_;
+  RenderConfig render_cfg_;
+  std::vector<std::unique_ptr<Renderer>> renderers_;
+  cv::Mat image_;
+#ifdef VID_SIM_HAS_FEATURES
+  std::unique_ptr<FeatureSimulator> features_;
+#endif
+};
+
+}  // namespace
+
+std::unique_ptr<VisualOutput> make_visual_output(const Scenario& sc) {
+  if (sc.cameras.cameras.empty() || (!sc.cameras.images && !sc.cameras.features)) return nullptr;
+  return std::make_unique<RenderedOutput>(sc);
+}
+
+}  // namespace vid::sim
