@@ -1,0 +1,78 @@
+#pragma once
+/// @file run_outputs.h
+/// @brief Writers of the estimator-run outputs of DESIGN §5. Every row is flushed, so an
+/// interrupted run keeps everything it had written.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "vio_core/measurements.h"
+
+namespace vid::runner {
+
+/// @brief One estimate as written to the outputs (IMU rate).
+struct EstimateRow {
+  TimeNs t_ns = 0;
+  Eigen::Quaterniond q_WI = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d p_WI = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_WI = Eigen::Vector3d::Zero();
+  Eigen::Vector3d b_g = Eigen::Vector3d::Zero();
+  Eigen::Vector3d b_a = Eigen::Vector3d::Zero();
+  Eigen::Vector3d F_ext_I = Eigen::Vector3d::Zero();  ///< mass-normalized, body [m/s^2]
+  /// 1-sigma of [dtheta(3), dp(3), dv(3), db_g(3), db_a(3), dF(3)]; F is 0 in imu mode
+  Eigen::Matrix<double, 18, 1> sigma = Eigen::Matrix<double, 18, 1>::Zero();
+};
+
+/// @brief Per camera frame stage times [ms].
+struct TimingRow {
+  TimeNs t_ns = 0;
+  double tracking_ms = 0.0;
+  double propagation_ms = 0.0;
+  double accel_update_ms = 0.0;
+  double msckf_update_ms = 0.0;
+  double marginalization_ms = 0.0;
+  double total_ms = 0.0;
+};
+
+/// @brief A CSV/text file that is flushed after every row and reports write errors by name.
+class FlushedFile {
+ public:
+  FlushedFile() = default;
+  explicit FlushedFile(const std::filesystem::path& path);
+  ~FlushedFile();
+  FlushedFile(const FlushedFile&) = delete;
+  FlushedFile& operator=(const FlushedFile&) = delete;
+  /// @brief Write one line (newline added) and flush; throws std::runtime_error naming the file.
+  void line(const std::string& text);
+  void close();
+
+ private:
+  std::filesystem::path path_;
+  std::FILE* f_ = nullptr;
+};
+
+/// @brief trajectory_tum.txt, state.csv, force.csv and timing.csv in one output folder.
+class RunOutputs {
+ public:
+  /// @param write_force  false in imu mode (force.csv then holds only its header)
+  RunOutputs(const std::filesystem::path& out_dir, bool write_force);
+  void write_estimate(const EstimateRow& row);
+  void write_timing(const TimingRow& row);
+  void close();
+
+ private:
+  bool write_force_;
+  FlushedFile tum_, state_, force_, timing_;
+};
+
+/// @brief Header line of state.csv (shared with the Python loader, vid_eval.formats).
+std::string state_csv_header();
+/// @brief Header line of force.csv.
+std::string force_csv_header();
+/// @brief Header line of timing.csv.
+std::string timing_csv_header();
+
+}  // namespace vid::runner

@@ -1,0 +1,37 @@
+#pragma once
+/// @file run_summary.h
+/// @brief Accumulates per-frame stage times and writes summary.json (DESIGN §5).
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "runner/run_outputs.h"
+
+namespace vid::runner {
+
+/// @brief mean / median / p99 / max of a sample [ms].
+nlohmann::json stage_stats(std::vector<double> values);
+
+/// @brief Collects the per-frame stage times of a run.
+class StageTimes {
+ public:
+  void add(const TimingRow& row);
+  std::size_t frames() const { return total_.size(); }
+  /// @brief {"tracking": {mean_ms, median_ms, p99_ms, max_ms}, ...}
+  nlohmann::json to_json() const;
+
+ private:
+  std::vector<double> tracking_, propagation_, accel_, msckf_, marginalization_, total_;
+};
+
+/// @brief Peak resident memory of this process [MiB].
+double peak_memory_mib();
+
+/// @brief Write @p summary to DIR/summary.json (pretty, flushed).
+void write_summary(const std::filesystem::path& out_dir, const nlohmann::json& summary);
+
+}  // namespace vid::runner

@@ -1,0 +1,40 @@
+#pragma once
+/// @file runner.h
+/// @brief vid_run's wiring: dataset reader -> (KLT frontend | feat0 undistortion) ->
+/// estimator pipeline -> outputs (DESIGN §5), with timing, counters and metrics.
+
+#include <atomic>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "vio_core/estimator_params.h"
+
+namespace vid::runner {
+
+/// @brief Where features come from.
+enum class FeatureSource { kAuto, kImages, kFeat0 };
+
+/// @brief The command-line options of vid_run.
+struct RunOptions {
+  std::filesystem::path dataset;
+  std::filesystem::path out_dir;
+  std::optional<std::filesystem::path> config;
+  std::optional<PropagationMode> mode;   ///< default: dynamics when rotor0/thrust0 exist
+  std::optional<InitMode> init;          ///< default: the config's init_mode
+  FeatureSource features = FeatureSource::kAuto;
+  double start_s = 0.0;                  ///< relative to the first measurement
+  double end_s = -1.0;                   ///< <0: to the end
+  bool progress = true;
+};
+
+/// @brief How a run ended (the program's exit code follows it).
+enum class RunResult { kOk = 0, kDiverged = 3, kInterrupted = 130 };
+
+/// @brief Run the estimator over a dataset and write every output; summary.json is always
+/// written, also when the run is interrupted or diverges.
+/// @param stop  set asynchronously (SIGINT) to end the run cleanly
+/// @throws io::DatasetError / io::ConfigError / std::runtime_error on bad input
+RunResult run(const RunOptions& options, const std::atomic<bool>& stop);
+
+}  // namespace vid::runner

@@ -1,0 +1,83 @@
+#include "runner/run_config.h"
+
+#include <sstream>
+
+#include "frontend/frontend_params_yaml.h"
+#include "io/errors.h"
+#include "io/estimator_params_yaml.h"
+#include "io/kalibr.h"
+#include "io/sensor_yaml.h"
+
+namespace vid::runner {
+
+namespace fs = std::filesystem;
+
+RunConfig resolve_run_config(const std::optional<fs::path>& config, const io::DatasetCalibration& dataset) {
+  RunConfig cfg;
+  cfg.sources["estimator"] = "defaults";
+  cfg.sources["frontend"] = "defaults";
+  cfg.cameras = dataset.cameras;
+  cfg.imu = dataset.imu;
+  cfg.rotor = dataset.rotor;
+  cfg.vehicle = dataset.vehicle;
+  if (!dataset.cameras.empty()) cfg.sources["cameras"] = "dataset camN/sensor.yaml";
+  if (dataset.imu) cfg.sources["imu"] = "dataset imu0/sensor.yaml";
+  if (dataset.rotor) cfg.sources["rotor"] = "dataset rotor0/sensor.yaml";
+  if (dataset.vehicle) cfg.sources["vehicle"] = "dataset vehicle.yaml";
+
+  if (config) {
+    fs::path dir = *config;
+    fs::path estimator_file;
+    if (fs::is_regular_file(*config)) {
+      estimator_file = *config;
+      dir = config->parent_path();
+    } else if (fs::is_directory(*config)) {
+      estimator_file = dir / "estimator.yaml";
+    } else {
+      throw io::ConfigError(config->string() + ": no such config file or folder");
+    }
+    if (fs::exists(estimator_file)) {
+      cfg.estimator = io::load_estimator_params(estimator_file);
+      cfg.sources["estimator"] = estimator_file.string();
+    }
+    if (const fs::path f = dir / "frontend.yaml"; fs::exists(f)) {
+      cfg.frontend = load_frontend_params(f);
+      cfg.sources["frontend"] = f.string();
+    }
+    if (const fs::path f = dir / "imu.yaml"; fs::exists(f)) {
+      cfg.imu = io::load_kalibr_imu(f);
+      cfg.sources["imu"] = f.string();
+    }
+    if (const fs::path f = dir / "camchain.yaml"; fs::exists(f)) {
+      cfg.cameras = io::load_kalibr_imucam(f);
+      cfg.sources["cameras"] = f.string();
+    }
+    if (const fs::path f = dir / "vehicle.yaml"; fs::exists(f)) {
+      cfg.vehicle = io::load_vehicle_yaml(f);
+      cfg.sources["vehicle"] = f.string();
+    }
+  }
+
+  // The IMU calibration is the source of truth for IMU noise; the vehicle for gravity.
+  if (cfg.imu) {
+    cfg.estimator.gyro_noise_density = cfg.imu->gyro_noise_density;
+    cfg.estimator.gyro_random_walk = cfg.imu->gyro_random_walk;
+    cfg.estimator.accel_noise_density = cfg.imu->accel_noise_density;
+    cfg.estimator.accel_random_walk = cfg.imu->accel_random_walk;
+    if (cfg.imu->rate_hz > 0.0) cfg.estimator.imu_rate_hz = cfg.imu->rate_hz;
+  }
+  if (cfg.vehicle) cfg.estimator.gravity = cfg.vehicle->gravity;
+  return cfg;
+}
+
+std::string describe(const RunConfig& cfg) {
+  std::ostringstream os;
+  os << "# estimator (" << cfg.sources.at("estimator") << ")\n" << io::to_yaml(cfg.estimator) << "\n";
+  for (const auto& cam : cfg.cameras) os << "# cam" << cam.cam_id << "\n" << cam << "\n";
+  if (cfg.imu) os << "# imu\n" << *cfg.imu << "\n";
+  if (cfg.rotor) os << "# rotor\n" << *cfg.rotor << "\n";
+  if (cfg.vehicle) os << "# vehicle\n" << *cfg.vehicle << "\n";
+  return os.str();
+}
+
+}  // namespace vid::runner

@@ -1,0 +1,90 @@
+#include "runner/run_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace vid::runner {
+
+namespace {
+/// For each of a (sorted) the nearest of sorted b within tol; ties go to the earlier sample.
+std::vector<std::pair<std::size_t, std::size_t>> nearest(const std::vector<TimeNs>& a, const std::vector<TimeNs>& b,
+                                                         TimeNs tol) {
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  if (a.empty() || b.empty()) return out;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const TimeNs s = a[i];
+    if (s < b.front() - tol || s > b.back() + tol) continue;
+    std::size_t j = static_cast<std::size_t>(std::upper_bound(b.begin(), b.end(), s) - b.begin());
+    j = std::min(j, b.size() - 1);
+    const TimeNs d_up = b[j] - s;
+    const TimeNs d_lo = j > 0 ? s - b[j - 1] : std::numeric_limits<TimeNs>::max();
+    if (d_up <= tol && d_up < d_lo) {
+      out.emplace_back(i, j);
+    } else if (d_lo <= tol && d_lo <= d_up) {
+      out.emplace_back(i, j - 1);
+    }
+  }
+  return out;
+}
+}  // namespace
+
+std::vector<std::pair<std::size_t, std::size_t>> associate_nearest(const std::vector<TimeNs>& t_est,
+                                                                   const std::vector<TimeNs>& t_gt,
+                                                                   TimeNs max_diff_ns) {
+  if (t_gt.size() > t_est.size()) return nearest(t_est, t_gt, max_diff_ns);
+  auto swapped = nearest(t_gt, t_est, max_diff_ns);
+  for (auto& p : swapped) std::swap(p.first, p.second);
+  return swapped;
+}
+
+std::optional<AteResult> ate_posyaw(const Vec3Series& est, const Vec3Series& gt) {
+  const auto pairs = associate_nearest(est.t_ns, gt.t_ns);
+  if (pairs.empty()) return std::nullopt;
+  const double n = static_cast<double>(pairs.size());
+  Eigen::Vector3d mu_e = Eigen::Vector3d::Zero();
+  Eigen::Vector3d mu_g = Eigen::Vector3d::Zero();
+  for (const auto& [ie, ig] : pairs) {
+    mu_e += est.v[ie];
+    mu_g += gt.v[ig];
+  }
+  mu_e /= n;
+  mu_g /= n;
+  // Closed form: yaw = atan2(sum(a_x b_y - a_y b_x), sum(a_x b_x + a_y b_y)) on centred points.
+  double num = 0.0;
+  double den = 0.0;
+  for (const auto& [ie, ig] : pairs) {
+    const Eigen::Vector3d a = est.v[ie] - mu_e;
+    const Eigen::Vector3d b = gt.v[ig] - mu_g;
+    num += a.x() * b.y() - a.y() * b.x();
+    den += a.x() * b.x() + a.y() * b.y();
+  }
+  AteResult r;
+  r.yaw_rad = (num != 0.0 || den != 0.0) ? std::atan2(num, den) : 0.0;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(r.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  r.translation = mu_g - R * mu_e;
+  double sq = 0.0;
+  for (const auto& [ie, ig] : pairs) sq += (R * est.v[ie] + r.translation - gt.v[ig]).squaredNorm();
+  r.rmse_m = std::sqrt(sq / n);
+  r.pairs = pairs.size();
+  return r;
+}
+
+std::optional<double> force_rmse(const Vec3Series& est_W, const Vec3Series& gt_W, std::size_t* pairs_out) {
+  const auto pairs = associate_nearest(est_W.t_ns, gt_W.t_ns);
+  if (pairs_out != nullptr) *pairs_out = pairs.size();
+  if (pairs.empty()) return std::nullopt;
+  double sq = 0.0;
+  for (const auto& [ie, ig] : pairs) sq += (est_W.v[ie] - gt_W.v[ig]).squaredNorm();
+  return std::sqrt(sq / static_cast<double>(pairs.size()));
+}
+
+double mass_at(const std::vector<TimeNs>& t_ns, const std::vector<double>& mass_kg, TimeNs t) {
+  if (t <= t_ns.front()) return mass_kg.front();
+  if (t >= t_ns.back()) return mass_kg.back();
+  const std::size_t j = static_cast<std::size_t>(std::upper_bound(t_ns.begin(), t_ns.end(), t) - t_ns.begin());
+  const double w = static_cast<double>(t - t_ns[j - 1]) / static_cast<double>(t_ns[j] - t_ns[j - 1]);
+  return mass_kg[j - 1] + w * (mass_kg[j] - mass_kg[j - 1]);
+}
+
+}  // namespace vid::runner
