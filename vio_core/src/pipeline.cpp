@@ -103,6 +103,7 @@ void Pipeline::drain(bool force) {
 
 void Pipeline::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu) {
   state_.initialize(t_ns, x, P_imu);
+  last_input_.reset();
   features_ = std::make_unique<msckf::FeatureDatabase>();
   status_ = FilterStatus::kOk;
   status_message_ = "ok";
@@ -150,6 +151,12 @@ void Pipeline::process_imu(const ImuInput& in) {
     return;
   }
   if (status_ == FilterStatus::kDiverged) return;
+  if (!last_input_) {  // initialized explicitly: this sample starts the propagation
+    last_input_ = in;
+    if (in.t > state_.time()) state_.set_time(in.t);
+    emit(in.t);
+    return;
+  }
   if (in.t <= state_.time()) return;  // duplicate / out-of-order sample
 
   ImuInput a = *last_input_;

@@ -3,6 +3,7 @@
 #include "vio_core/state.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -134,8 +135,13 @@ CovarianceHealth FilterState::check_and_symmetrize() {
   h.max_asymmetry = (P_ - P_.transpose()).cwiseAbs().maxCoeff();
   Eigen::MatrixXd sym = 0.5 * (P_ + P_.transpose());  // temporary: transpose aliases
   P_.swap(sym);
-  Eigen::LLT<Eigen::MatrixXd> llt(P_);
-  h.positive_definite = (llt.info() == Eigen::Success);
+  // A fresh clone is an exact copy of the IMU pose, so P is only semidefinite right after
+  // augmentation: accept pivots down to a small negative round-off tolerance.
+  Eigen::LDLT<Eigen::MatrixXd> ldlt(P_);
+  const double tol = 1e-12 * std::max(1.0, P_.diagonal().cwiseAbs().maxCoeff());
+  // (info() flags exact zero pivots, which are legitimate here; the pivots decide.)
+  h.positive_definite = ldlt.vectorD().allFinite() && ldlt.vectorD().minCoeff() >= -tol &&
+                        P_.diagonal().minCoeff() > 0.0;
   return h;
 }
 

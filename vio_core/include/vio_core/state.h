@@ -67,7 +67,7 @@ struct CalibPose {
 /// @brief Result of a covariance health check.
 struct CovarianceHealth {
   bool finite = true;
-  bool positive_definite = true;
+  bool positive_definite = true;  ///< positive semidefinite up to round-off, positive diagonal
   double max_asymmetry = 0.0;  ///< max |P - P^T| before symmetrization
 };
 
@@ -113,7 +113,8 @@ class FilterState {
   /// @brief Apply an error-state correction dx (size dim()): boxplus on rotations, + elsewhere.
   void apply_correction(const Eigen::VectorXd& dx);
 
-  /// @brief Symmetrize P in place and report finiteness / positive definiteness (LLT, O(n^3)).
+  /// @brief Symmetrize P in place and report finiteness / positive (semi)definiteness (LDLT,
+  /// O(n^3)).
   CovarianceHealth check_and_symmetrize();
 
  private:

@@ -35,6 +35,7 @@ struct TriangulationResult {
   Eigen::Vector3d p_W = Eigen::Vector3d::Zero();
   double condition = 0.0;          ///< condition number of the linear system
   double max_reproj_error = 0.0;   ///< largest per-observation error, normalized units
+  double rms_reproj_error = 0.0;   ///< RMS per-observation error, normalized units
   int iterations = 0;              ///< Gauss-Newton iterations done
   bool ok() const { return status == TriangulationStatus::kOk; }
 };

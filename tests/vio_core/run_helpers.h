@@ -1,0 +1,81 @@
+#pragma once
+// Run the pipeline over a synthetic sequence and collect errors against the analytic truth.
+#include <Eigen/Cholesky>
+#include <map>
+#include <random>
+#include <vector>
+
+#include "synthetic.h"
+#include "vio_core/initializer.h"
+#include "vio_core/pipeline.h"
+#include "vio_core/so3.h"
+
+namespace vid::test {
+
+struct RunError {
+  double t = 0;
+  Eigen::Vector3d e_theta, e_p, e_F_I;  // estimate minus truth (theta: Log(R_true^T R_est))
+  Eigen::Matrix3d P_theta, P_p, P_F;
+  Eigen::Vector3d F_W_est, F_W_true;
+};
+
+struct RunResult {
+  std::vector<RunError> errors;
+  FilterStatus status = FilterStatus::kOk;
+  std::string message;
+  PipelineCounters counters;
+  std::vector<FrameTimings> frames;
+};
+
+/// init_seed != 0: the initial estimate is the truth (with the generator's true biases)
+/// perturbed by one sample of the initial covariance (needed for an honest NEES).
+inline RunResult run_pipeline(const SynthConfig& c, const SynthData& d, const PipelineConfig& pc,
+                              bool init_from_truth = true, unsigned init_seed = 0) {
+  Pipeline pipe(pc);
+  std::map<TimeNs, const TruthState*> truth;
+  for (const TruthState& s : d.truth) truth[s.t_ns] = &s;
+  RunResult out;
+  pipe.set_estimate_callback([&](const EstimateOutput& e) {
+    auto it = truth.find(e.t_ns);
+    if (it == truth.end()) return;
+    const TruthState& s = *it->second;
+    RunError r;
+    r.t = ns_to_s(e.t_ns);
+    r.e_theta = so3::boxminus(e.x.q_WI, s.q);
+    r.e_p = e.x.p_WI - s.p;
+    r.e_F_I = e.x.F_ext_I - s.F_I;
+    r.P_theta = e.cov_theta;
+    r.P_p = e.cov_p;
+    r.P_F = e.cov_F;
+    r.F_W_est = e.x.q_WI * e.x.F_ext_I;
+    r.F_W_true = s.F_W;
+    out.errors.push_back(r);
+  });
+  pipe.set_frame_callback([&](const FrameTimings& f) { out.frames.push_back(f); });
+  if (init_from_truth) {
+    ImuState x0 = initial_state(c);
+    const Eigen::MatrixXd P0 = initial_covariance(pc.params, x0.q_WI);
+    if (init_seed != 0) {
+      std::mt19937 rng(init_seed);
+      std::normal_distribution<double> nd(0.0, 1.0);
+      Eigen::VectorXd z(P0.rows());
+      for (int i = 0; i < z.size(); ++i) z(i) = nd(rng);
+      const Eigen::VectorXd dx = Eigen::MatrixXd(P0.llt().matrixL()) * z;
+      x0.q_WI = so3::boxplus(x0.q_WI, dx.segment<3>(imu_idx::kTheta));
+      x0.p_WI += dx.segment<3>(imu_idx::kP);
+      x0.v_WI += dx.segment<3>(imu_idx::kV);
+      x0.b_g = c.b_g + dx.segment<3>(imu_idx::kBg);
+      x0.b_a = c.b_a + dx.segment<3>(imu_idx::kBa);
+      if (P0.rows() == 18) x0.F_ext_I += dx.segment<3>(imu_idx::kF);
+    }
+    pipe.initialize(0, x0, P0);
+  }
+  for (const Measurement& m : d.stream) pipe.push(m);
+  pipe.finish();
+  out.status = pipe.status();
+  out.message = pipe.status_message();
+  out.counters = pipe.counters();
+  return out;
+}
+
+}  // namespace vid::test
