@@ -41,6 +41,7 @@ bool TimedRows::next(std::size_t columns, TimeNs* t, bool allow_equal) {
 void TimedRows::record(TimeNs t) {
   if (!have_recorded_) {
     stats_.first_ns = t;
+    stats_.largest_gap_at_ns = t;  // no gap yet: point at the first sample, not at t = 0
     have_recorded_ = true;
   } else if (t - stats_.last_ns > stats_.largest_gap_ns) {
     stats_.largest_gap_ns = t - stats_.last_ns;

@@ -44,6 +44,21 @@ TEST(EurocSample, LoadsAllStreamsInOrder) {
   EXPECT_EQ(first_gt.b_a.z(), 0.075593);
 }
 
+TEST(EurocSample, StatsOfASingleImageStream) {
+  ScratchDir dir;
+  std::filesystem::copy(kSample, dir.path(), std::filesystem::copy_options::recursive);
+  write_text(dir.path() / "mav0/cam0/data.csv", "#timestamp [ns],filename\r\n1403636579813555456,1403636579813555456.png\r\n");
+  DatasetReader reader(dir.path());
+  while (reader.next()) {
+  }
+  for (const StreamStats& s : reader.stats()) {
+    if (s.name != "cam0") continue;
+    EXPECT_EQ(s.count, 1u);
+    EXPECT_EQ(s.largest_gap_ns, 0);
+    EXPECT_EQ(s.largest_gap_at_ns, 1403636579813555456);  // no gap: the first sample, not 0
+  }
+}
+
 TEST(EurocSample, CalibrationFromSensorYaml) {
   DatasetReader reader(kSample / "mav0");
   const auto& c = reader.calibration();

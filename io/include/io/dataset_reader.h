@@ -48,7 +48,7 @@ struct StreamStats {
   TimeNs first_ns = 0;
   TimeNs last_ns = 0;
   TimeNs largest_gap_ns = 0;
-  TimeNs largest_gap_at_ns = 0;
+  TimeNs largest_gap_at_ns = 0;  ///< time of the sample before the largest gap (first_ns if none)
   std::size_t dropped = 0;    ///< rows dropped under ReaderOptions (sum of the two below)
   std::size_t dropped_bad_timestamps = 0;  ///< non-monotonic/duplicate rows (drop_bad_timestamps)
   std::size_t skipped_missing_images = 0;  ///< listed images not on disk (skip_missing_images)
