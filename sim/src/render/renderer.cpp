@@ -121,12 +121,17 @@ void Renderer::precompute_rays() {
 
 void Renderer::render_radiance_generic(const Eigen::Isometry3d& T_WC, float* out) const {
   const float inv_S = 1.0f / static_cast<float>(ss_ * ss_);
+  const double angle_per_sample =
+      1.0 / (0.5 * (camera_->calib().intrinsics[0] + camera_->calib().intrinsics[1]) * ss_);
   for (const Chunk& c : chunks_) {
     for (int l = 0; l < 4; ++l) {
       if (c.pix[l] < 0) continue;
       const Eigen::Vector3d dir_W = T_WC.linear() * Eigen::Vector3d(c.x[l], c.y[l], c.z[l]);
       const auto hit = scene_.intersect(T_WC.translation(), dir_W);
-      if (hit) out[c.pix[l]] += inv_S * scene_.shade(hit->surface, hit->uv_m.x(), hit->uv_m.y());
+      if (!hit) continue;
+      const double cos_inc = std::max(1e-3, std::abs(hit->normal_W.dot(dir_W.normalized())));
+      const double footprint = hit->t * dir_W.norm() * angle_per_sample / std::sqrt(cos_inc);
+      out[c.pix[l]] += inv_S * scene_.shade(hit->surface, hit->uv_m.x(), hit->uv_m.y(), footprint);
     }
   }
 }
@@ -186,6 +191,7 @@ void Renderer::render_radiance(const Eigen::Isometry3d& T_WC, float* out) const 
   const float fp_per_m = static_cast<float>(
       tpm / (0.5 * (camera_->calib().intrinsics[0] + camera_->calib().intrinsics[1]) * ss_));
   const float fp2_per_m2 = fp_per_m * fp_per_m;
+  const float angle_per_sample = static_cast<float>(fp_per_m / tpm);
 
   // Boxes as slabs plus their bounding spheres in the camera frame for tile culling.
   const auto& boxes = scene_.boxes();
@@ -298,7 +304,10 @@ void Renderer::render_radiance(const Eigen::Isometry3d& T_WC, float* out) const 
         if (f.board && pu >= f.board_lo_u && pu <= f.board_hi_u && pv >= f.board_lo_v &&
             pv <= f.board_hi_v) {
           const Surface& sf = surfaces[surface[l]];
-          value = scene_.shade(surface[l], pu - sf.u0, pv - sf.v0);  // exact board pattern
+          // Board pattern box-filtered over the sample spacing (obliquity as sqrt(1/cos)).
+          const float footprint =
+              tl * angle_per_sample * std::sqrt(std::abs(inv[f.normal_axis][l]));
+          value = scene_.shade(surface[l], pu - sf.u0, pv - sf.v0, footprint);
         } else {
           // Footprint^2 in level-0 texels: distance^2 and obliquity 1/cos (= |1/d_n|).
           const float fp2 = tl * tl * fp2_per_m2 * std::abs(inv[f.normal_axis][l]);

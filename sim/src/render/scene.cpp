@@ -177,8 +177,8 @@ void Scene::make_surfaces() {
       const bool max_side = f % 2 == 1;
       TextureStyle st;
       // Faces of one box differ a little in brightness, like shading under room light.
-      st.mean_level = std::clamp(mean + (axis == 2 ? 25.0 : (axis == 0 ? 0.0 : -18.0)), 40.0, 210.0);
-      st.level_spread = style_rng.uniform(60.0, 95.0);
+      st.mean_level = std::clamp(mean + (axis == 2 ? 20.0 : (axis == 0 ? 0.0 : -15.0)), 70.0, 180.0);
+      st.level_spread = style_rng.uniform(80.0, 105.0);
       add(axis, max_side ? boxes_[b].max_W[axis] : boxes_[b].min_W[axis], max_side ? 1.0 : -1.0,
           boxes_[b].min_W, boxes_[b].max_W, st, 6 + 6 * b + static_cast<std::uint64_t>(f));
     }
@@ -234,22 +234,47 @@ std::optional<Eigen::Vector3d> Scene::raycast(const Eigen::Vector3d& origin_W,
   return h->p_W;
 }
 
-float Scene::board_value(double u, double v) const {
+namespace {
+/// Integral of the +-1 square wave of half-period sq (+1 on [0, sq)) from 0 to x.
+double square_wave_integral(double x, double sq) {
+  const double p = x - 2.0 * sq * std::floor(x / (2.0 * sq));
+  return p <= sq ? p : 2.0 * sq - p;
+}
+/// Mean of that square wave over [x - w/2, x + w/2] (w > 0), or its value (w = 0).
+double filtered_square_wave(double x, double sq, double w) {
+  if (w <= 0.0) return (x - 2.0 * sq * std::floor(x / (2.0 * sq))) < sq ? 1.0 : -1.0;
+  return (square_wave_integral(x + 0.5 * w, sq) - square_wave_integral(x - 0.5 * w, sq)) / w;
+}
+}  // namespace
+
+float Scene::board_value(double u, double v, double footprint_m) const {
   const double sq = config_.checkerboard.square_size;
-  const int i = static_cast<int>(std::floor((u - board_rect_[0]) / sq));
-  const int j = static_cast<int>(std::floor((v - board_rect_[1]) / sq));
-  if (i < 0 || j < 0 || i >= config_.checkerboard.squares_x || j >= config_.checkerboard.squares_y) {
-    return kBoardLight;  // white margin
+  const double du = u - board_rect_[0], dv = v - board_rect_[1];
+  const double w = std::min(footprint_m, 0.5 * sq);
+  // Outside the squares (plus half a filter width) is the white margin.
+  if (du < -0.5 * w || dv < -0.5 * w || u > board_rect_[2] + 0.5 * w || v > board_rect_[3] + 0.5 * w) {
+    return kBoardLight;
   }
-  return ((i + j) % 2 == 0) ? kBoardDark : kBoardLight;
+  // Dark where both square waves agree: value = light + (dark - light) (1 + s_u s_v) / 2.
+  // The 2-D box filter of this separable product is the product of the 1-D filtered waves.
+  double su = filtered_square_wave(du, sq, w), sv = filtered_square_wave(dv, sq, w);
+  // Blend to white across the outer board edge (the filter sees the margin there).
+  auto edge = [&](double x, double len) {
+    const double in = std::clamp((x + 0.5 * w) / std::max(w, 1e-12), 0.0, 1.0) *
+                      std::clamp((len - x + 0.5 * w) / std::max(w, 1e-12), 0.0, 1.0);
+    return w > 0.0 ? in : 1.0;
+  };
+  const double inside = edge(du, board_rect_[2] - board_rect_[0]) * edge(dv, board_rect_[3] - board_rect_[1]);
+  const double dark_fraction = inside * 0.5 * (1.0 + su * sv);
+  return static_cast<float>(kBoardLight + (kBoardDark - kBoardLight) * dark_fraction);
 }
 
-float Scene::shade(int surface, double u, double v) const {
+float Scene::shade(int surface, double u, double v, double footprint_m) const {
   if (surface == board_surface_) {
     const double m = config_.checkerboard.square_size;
     if (u >= board_rect_[0] - m && u <= board_rect_[2] + m && v >= board_rect_[1] - m &&
         v <= board_rect_[3] + m) {
-      return board_value(u, v);
+      return board_value(u, v, footprint_m);
     }
   }
   const cv::Mat& tex = surfaces_[surface].texture;

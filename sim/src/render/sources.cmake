@@ -8,6 +8,7 @@ set(VID_SIM_RENDER_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/scene.cpp
   ${CMAKE_CURRENT_LIST_DIR}/render_config.cpp
   ${CMAKE_CURRENT_LIST_DIR}/renderer.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/feature_simulator.cpp
 )
 # vid_camera (frontend camera models), OpenCV core/imgproc, yaml-cpp; io/include for
 # io/errors.h (header-only ConfigError).

@@ -86,12 +86,17 @@ cv::Mat make_surface_texture(double size_m_u, double size_m_v, double texels_per
   // Dead-leaves layers from large to small shapes; each scale covers part of the area, so
   // corners exist at every viewing distance and large shapes stay visible from far away.
   const double scales_m[] = {0.80, 0.42, 0.22, 0.11, 0.055, 0.03};
-  const double coverage[] = {1.2, 0.5, 0.28, 0.14, 0.07, 0.03};
+  const double coverage[] = {3.0, 0.6, 0.3, 0.14, 0.07, 0.03};
+  // Small surfaces (box faces) start at a scale that fits them, fully covered, so every
+  // face shows several shapes instead of one large one.
+  int k0 = 0;
+  while (k0 < 5 && scales_m[k0] > 0.5 * std::min(size_m_u, size_m_v)) ++k0;
   const double area_texels = static_cast<double>(w) * h;
-  for (int k = 0; k < 6; ++k) {
+  for (int k = k0; k < 6; ++k) {
     const double s = scales_m[k] * texels_per_m;
     if (s < 3.0) continue;  // smaller than the texel grid can hold
-    const long n = std::lround(style.shape_density * coverage[k] * area_texels / (0.6 * s * s));
+    const double cover = k == k0 ? std::max(coverage[k], 3.0) : coverage[k];
+    const long n = std::lround(style.shape_density * cover * area_texels / (0.6 * s * s));
     for (long i = 0; i < n; ++i) {
       const double size = s * rng.uniform(0.7, 1.4);
       const double level = std::clamp(

@@ -60,8 +60,10 @@ class Scene {
                                     const Eigen::Vector3d& dir_W) const;
 
   /// @brief Gray level [0, 255] of surface `surface` at texture coordinate (u, v) [m]:
-  /// bilinear texture lookup, or the exact checkerboard pattern on the board.
-  float shade(int surface, double u_m, double v_m) const;
+  /// bilinear texture lookup, or the checkerboard pattern on the board, box-filtered over
+  /// `footprint_m` (the sample spacing on the surface; 0: the exact, unfiltered pattern).
+  /// The filter keeps the board's edges and corners free of sampling bias.
+  float shade(int surface, double u_m, double v_m, double footprint_m = 0.0) const;
 
   /// @brief True if p_W is inside the room and outside every box (by `margin` metres).
   bool is_free(const Eigen::Vector3d& p_W, double margin = 0.0) const;
@@ -87,7 +89,7 @@ class Scene {
  private:
   void place_boxes();
   void make_surfaces();
-  float board_value(double u, double v) const;
+  float board_value(double u, double v, double footprint_m) const;
 
   SceneConfig config_;
   Eigen::Vector3d room_min_, room_max_;
