@@ -1,0 +1,38 @@
+#pragma once
+/// @file sim_test_util.h
+/// @brief Helpers of the simulator tests: load presets, collect a run in memory.
+
+#include <string>
+#include <vector>
+
+#include "sim/scenario.h"
+#include "sim/simulator.h"
+
+namespace vid::sim::test {
+
+/// @brief config/sim/<name>.yaml of the source tree.
+std::string preset_path(const std::string& name);
+
+/// @brief Everything a run produced, in memory.
+struct Recording : SimSink {
+  std::vector<ImuSample> imu;
+  std::vector<RotorSample> rotor;
+  std::vector<GroundTruthSample> gt;
+  std::vector<ForceSample> force;
+  std::vector<MassSample> mass;
+  std::vector<TruthSample> truth;
+  void on_imu(const ImuSample& s) override { imu.push_back(s); }
+  void on_rotor(const RotorSample& s) override { rotor.push_back(s); }
+  void on_groundtruth(const GroundTruthSample& s) override { gt.push_back(s); }
+  void on_force(const ForceSample& s) override { force.push_back(s); }
+  void on_mass(const MassSample& s) override { mass.push_back(s); }
+  void on_truth(const TruthSample& s) override { truth.push_back(s); }
+};
+
+/// @brief Run a scenario without cameras and return what it produced.
+Recording record(Scenario sc);
+
+/// @brief Position RMSE of ground truth against the reference trajectory over [t_from, end].
+double tracking_rmse(const Simulator& sim, const Recording& rec, double t_from_s);
+
+}  // namespace vid::sim::test
