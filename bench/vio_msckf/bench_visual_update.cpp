@@ -1,0 +1,119 @@
+/// Timing of the MSCKF visual update on the synthetic scene of the tests:
+/// build_visual_update (target <= 1 ms for 40 features x 11 clones, stereo) and its parts.
+/// Run: bench_vio_msckf --benchmark_repetitions=10 --benchmark_report_aggregates_only=true
+
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+#include "synthetic_scene.h"
+#include "vio_core/msckf/linear_algebra.h"
+#include "vio_core/msckf/triangulation.h"
+#include "vio_core/msckf/visual_update.h"
+
+namespace {
+
+using namespace vid::msckf;
+using vid::msckf::testing::make_scene;
+using vid::msckf::testing::Scene;
+using vid::msckf::testing::SceneOptions;
+
+struct Setup {
+  Scene scene;
+  std::vector<ClonePose> clones;
+  Eigen::MatrixXd P;
+  VisualUpdateParams params;
+};
+
+/// 1 px noise, clone estimates 0.1 deg / 1 cm off the truth, dense prior covariance.
+Setup make_setup(int features, int clones, bool stereo, bool estimate_extrinsics) {
+  SceneOptions opt;
+  opt.num_features = features;
+  opt.num_clones = clones;
+  opt.stereo = stereo;
+  opt.pixel_sigma_norm = 1.0 / opt.focal;
+  Setup s{make_scene(opt), {}, {}, {}};
+  int n = s.scene.state_dim;
+  if (estimate_extrinsics) {
+    for (CameraExtrinsic& e : s.scene.extrinsics) {
+      e.cov_index = n;
+      n += 6;
+    }
+  }
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::MatrixXd A(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) A(i, j) = 1e-3 * g(rng);
+  s.P = A * A.transpose() + 1e-4 * Eigen::MatrixXd::Identity(n, n);
+  s.clones = s.scene.clones_true;
+  for (ClonePose& c : s.clones) {
+    c.R_WI = c.R_WI * vid::so3::exp(Eigen::Vector3d(g(rng), g(rng), g(rng)) * 0.002);
+    c.p_WI += Eigen::Vector3d(g(rng), g(rng), g(rng)) * 0.01;
+    c.R_WI_fej = c.R_WI;
+    c.p_WI_fej = c.p_WI;
+  }
+  s.params.sigma_norm = 1.0 / opt.focal;
+  s.params.chi2_multiplier = 1e3;  // time the full path for every feature
+  return s;
+}
+
+void BM_BuildVisualUpdate(benchmark::State& state) {
+  const Setup s = make_setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
+                             state.range(2) != 0, state.range(3) != 0);
+  int used = 0;
+  Eigen::Index rows = 0;
+  for (auto _ : state) {
+    const VisualLinearSystem sys =
+        build_visual_update(s.scene.tracks, s.clones, s.scene.extrinsics, s.P, s.params);
+    used = sys.features_used;
+    rows = sys.H.rows();
+    benchmark::DoNotOptimize(sys.H.data());
+  }
+  state.counters["features_used"] = used;
+  state.counters["rows_out"] = static_cast<double>(rows);
+}
+BENCHMARK(BM_BuildVisualUpdate)
+    ->ArgNames({"features", "clones", "stereo", "extrinsics"})
+    ->Args({40, 11, 1, 0})
+    ->Args({40, 11, 1, 1})
+    ->Args({40, 11, 0, 0})
+    ->Args({100, 11, 1, 0})
+    ->Unit(benchmark::kMicrosecond);
+
+void BM_Triangulate22Rays(benchmark::State& state) {
+  const Setup s = make_setup(1, 11, true, false);
+  std::vector<CameraRay> rays;
+  for (const TrackObservation& o : s.scene.tracks[0].obs) {
+    for (const ClonePose& c : s.scene.clones_true) {
+      if (c.t_ns != o.t_ns) continue;
+      const Eigen::Isometry3d& T = s.scene.extrinsics[o.cam_id].T_IC;
+      rays.push_back({c.R_WI * T.linear(), c.p_WI + c.R_WI * T.translation(), o.uv_norm});
+    }
+  }
+  for (auto _ : state) {
+    const TriangulationResult r = triangulate(rays, TriangulationParams{});
+    benchmark::DoNotOptimize(r.p_W.data());
+  }
+}
+BENCHMARK(BM_Triangulate22Rays)->Unit(benchmark::kMicrosecond);
+
+void BM_CompressQr1640x66(benchmark::State& state) {
+  std::mt19937 rng(4);
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::MatrixXd H0(1640, 66);
+  Eigen::VectorXd r0(1640);
+  for (int i = 0; i < 1640; ++i) {
+    r0(i) = g(rng);
+    for (int j = 0; j < 66; ++j) H0(i, j) = g(rng);
+  }
+  for (auto _ : state) {
+    Eigen::MatrixXd H = H0;
+    Eigen::VectorXd r = r0;
+    compress_qr(&H, &r);
+    benchmark::DoNotOptimize(H.data());
+  }
+}
+BENCHMARK(BM_CompressQr1640x66)->Unit(benchmark::kMicrosecond);
+
+}  // namespace

@@ -1,0 +1,135 @@
+/// @file linear_algebra.cpp
+/// @brief Left-nullspace projection (Householder), QR measurement compression and the chi2
+/// quantile of the MSCKF gate.
+
+#include "vio_core/msckf/linear_algebra.h"
+
+#include <Eigen/Householder>
+#include <Eigen/QR>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace vid::msckf {
+
+void nullspace_project(const Eigen::MatrixXd& H_f, Eigen::MatrixXd* H_x, Eigen::VectorXd* r,
+                       Eigen::MatrixXd* S) {
+  const Eigen::Index m = H_f.rows();
+  if (H_f.cols() != 3 || m < 4 || H_x->rows() != m || r->size() != m ||
+      (S != nullptr && (S->rows() != m || S->cols() != m))) {
+    throw std::invalid_argument(std::string(__FILE__) + ": nullspace_project: H_f must be m x 3 "
+                                "with m >= 4 and H_x, r, S must have m rows (m = " +
+                                std::to_string(m) + ")");
+  }
+  // Q = H0 H1 H2 with Householder reflectors H_k acting on rows k..m-1; Q^T X = H2 H1 H0 X.
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(H_f);
+  const Eigen::MatrixXd& v = qr.matrixQR();
+  Eigen::VectorXd work(std::max<Eigen::Index>(H_x->cols(), m));
+  for (Eigen::Index k = 0; k < 3; ++k) {
+    const auto essential = v.col(k).tail(m - k - 1);
+    const double tau = qr.hCoeffs()(k);
+    H_x->bottomRows(m - k).applyHouseholderOnTheLeft(essential, tau, work.data());
+    r->tail(m - k).applyHouseholderOnTheLeft(essential, tau, work.data());
+    if (S != nullptr) {
+      S->bottomRows(m - k).applyHouseholderOnTheLeft(essential, tau, work.data());
+    }
+  }
+  if (S != nullptr) {
+    for (Eigen::Index k = 0; k < 3; ++k) {
+      const auto essential = v.col(k).tail(m - k - 1);
+      S->bottomRightCorner(m - 3, m - k).applyHouseholderOnTheRight(essential, qr.hCoeffs()(k),
+                                                                    work.data());
+    }
+    *S = S->bottomRightCorner(m - 3, m - 3).eval();
+  }
+  *H_x = H_x->bottomRows(m - 3).eval();
+  *r = r->tail(m - 3).eval();
+}
+
+void compress_qr(Eigen::MatrixXd* H, Eigen::VectorXd* r) {
+  const Eigen::Index m = H->rows();
+  const Eigen::Index n = H->cols();
+  if (r->size() != m) {
+    throw std::invalid_argument(std::string(__FILE__) + ": compress_qr: r has " +
+                                std::to_string(r->size()) + " rows, H has " +
+                                std::to_string(m));
+  }
+  if (m <= n) return;
+  Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(*H);  // in place
+  r->applyOnTheLeft(qr.householderQ().adjoint());
+  Eigen::MatrixXd R = H->topRows(n).triangularView<Eigen::Upper>();
+  *H = std::move(R);
+  r->conservativeResize(n);
+}
+
+namespace {
+
+/// Regularized lower incomplete gamma P(a, x): series below a + 1, continued fraction above.
+double gamma_p(double a, double x) {
+  if (x <= 0.0) return 0.0;
+  const double log_pre = a * std::log(x) - x - std::lgamma(a);
+  if (x < a + 1.0) {
+    double term = 1.0 / a;
+    double sum = term;
+    for (int n = 1; n < 10000; ++n) {
+      term *= x / (a + n);
+      sum += term;
+      if (std::abs(term) < std::abs(sum) * 1e-16) break;
+    }
+    return sum * std::exp(log_pre);
+  }
+  // Modified Lentz evaluation of the continued fraction for Q(a, x).
+  const double tiny = 1e-300;
+  double b = x + 1.0 - a;
+  double c = 1.0 / tiny;
+  double d = 1.0 / b;
+  double f = d;
+  for (int i = 1; i < 10000; ++i) {
+    const double an = -i * (i - a);
+    b += 2.0;
+    d = an * d + b;
+    if (std::abs(d) < tiny) d = tiny;
+    c = b + an / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1.0 / d;
+    const double delta = d * c;
+    f *= delta;
+    if (std::abs(delta - 1.0) < 1e-16) break;
+  }
+  return 1.0 - std::exp(log_pre) * f;
+}
+
+constexpr int kTableSize = 257;
+
+}  // namespace
+
+double chi2_quantile(double p, int dof) {
+  if (!(p > 0.0 && p < 1.0) || dof < 1) {
+    throw std::invalid_argument(std::string(__FILE__) + ": chi2_quantile: need 0 < p < 1 and "
+                                "dof >= 1, got p = " + std::to_string(p) +
+                                ", dof = " + std::to_string(dof));
+  }
+  const double k = 0.5 * dof;
+  double lo = 0.0;
+  double hi = dof + 10.0 * std::sqrt(2.0 * dof) + 100.0;
+  while (gamma_p(k, 0.5 * hi) < p) hi *= 2.0;
+  for (int it = 0; it < 200 && hi - lo > 1e-12 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (gamma_p(k, 0.5 * mid) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+double chi2_95(int dof) {
+  static const std::array<double, kTableSize> table = [] {
+    std::array<double, kTableSize> t{};
+    for (int d = 1; d < kTableSize; ++d) t[d] = chi2_quantile(0.95, d);
+    return t;
+  }();
+  if (dof >= 1 && dof < kTableSize) return table[dof];
+  return chi2_quantile(0.95, dof);
+}
+
+}  // namespace vid::msckf

@@ -1,0 +1,186 @@
+/// @file triangulation.cpp
+/// @brief Linear midpoint triangulation in the anchor camera frame, refined by
+/// Levenberg-damped Gauss-Newton in inverse depth.
+
+#include "vio_core/msckf/triangulation.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace vid::msckf {
+namespace {
+
+/// Pose of one observing camera relative to the anchor camera A.
+struct RelativePose {
+  Eigen::Matrix3d R_CA;
+  Eigen::Vector3d p_CA;  ///< position of A's origin in C
+  Eigen::Vector3d c_A;   ///< position of C's centre in A
+};
+
+double reprojection_cost(const std::vector<CameraRay>& rays,
+                         const std::vector<RelativePose>& rel, const Eigen::Vector3d& abr,
+                         double* max_err) {
+  double cost = 0.0;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    Eigen::Vector2d z;
+    if (!inverse_depth_projection(abr, rel[i].R_CA, rel[i].p_CA, &z, nullptr)) {
+      return std::numeric_limits<double>::infinity();
+    }
+    const double e = (rays[i].uv_norm - z).norm();
+    cost += e * e;
+    worst = std::max(worst, e);
+  }
+  if (max_err != nullptr) *max_err = worst;
+  return cost;
+}
+
+}  // namespace
+
+bool inverse_depth_projection(const Eigen::Vector3d& abr, const Eigen::Matrix3d& R_CA,
+                              const Eigen::Vector3d& p_CA, Eigen::Vector2d* z,
+                              Eigen::Matrix<double, 2, 3>* J) {
+  // h = rho * p_C = R_CA [alpha, beta, 1] + rho p_CA; z = h.xy / h.z (rho > 0 assumed).
+  const Eigen::Vector3d h = R_CA * Eigen::Vector3d(abr.x(), abr.y(), 1.0) + abr.z() * p_CA;
+  if (!(h.z() > 1e-12)) return false;
+  const double inv_z = 1.0 / h.z();
+  *z = h.head<2>() * inv_z;
+  if (J != nullptr) {
+    Eigen::Matrix<double, 2, 3> dz_dh;
+    dz_dh << inv_z, 0.0, -z->x() * inv_z, 0.0, inv_z, -z->y() * inv_z;
+    Eigen::Matrix3d dh_dabr;
+    dh_dabr << R_CA.col(0), R_CA.col(1), p_CA;
+    *J = dz_dh * dh_dabr;
+  }
+  return true;
+}
+
+TriangulationResult triangulate(const std::vector<CameraRay>& rays,
+                                const TriangulationParams& params) {
+  TriangulationResult res;
+  if (rays.size() < 2) return res;
+
+  const Eigen::Matrix3d& R_WA = rays[0].R_WC;
+  const Eigen::Vector3d& p_WA = rays[0].p_WC;
+  std::vector<RelativePose> rel(rays.size());
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  const Eigen::Vector3d d0 = rays[0].uv_norm.homogeneous().normalized();
+  double max_parallax = 0.0;
+  double max_baseline = 0.0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Eigen::Matrix3d R_AC = R_WA.transpose() * rays[i].R_WC;
+    rel[i].c_A = R_WA.transpose() * (rays[i].p_WC - p_WA);
+    rel[i].R_CA = R_AC.transpose();
+    rel[i].p_CA = -rel[i].R_CA * rel[i].c_A;
+    const Eigen::Vector3d d = (R_AC * rays[i].uv_norm.homogeneous()).normalized();
+    // Midpoint: minimise the sum of squared distances of p_A to each ray.
+    const Eigen::Matrix3d Pperp = Eigen::Matrix3d::Identity() - d * d.transpose();
+    A += Pperp;
+    b += Pperp * rel[i].c_A;
+    max_parallax = std::max(max_parallax, std::atan2(d0.cross(d).norm(), d0.dot(d)));
+    max_baseline = std::max(max_baseline, rel[i].c_A.norm());
+  }
+
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(A, Eigen::EigenvaluesOnly);
+  const double lmin = eig.eigenvalues()(0);
+  const double lmax = eig.eigenvalues()(2);
+  res.condition = lmin > 0.0 ? lmax / lmin : std::numeric_limits<double>::infinity();
+  if (!(res.condition <= params.max_condition)) {
+    res.status = TriangulationStatus::kIllConditioned;
+    return res;
+  }
+  if (max_parallax < params.min_parallax_rad) {
+    res.status = TriangulationStatus::kLowParallax;
+    return res;
+  }
+  if (max_baseline < params.min_baseline) {
+    res.status = TriangulationStatus::kLowBaseline;
+    return res;
+  }
+  const Eigen::Vector3d p_A0 = A.ldlt().solve(b);
+  if (!(p_A0.z() > params.min_depth) || !(p_A0.z() < params.max_depth)) {
+    res.status = TriangulationStatus::kBadDepth;
+    return res;
+  }
+
+  // Gauss-Newton (Levenberg damped) in inverse depth of the anchor camera.
+  Eigen::Vector3d abr(p_A0.x() / p_A0.z(), p_A0.y() / p_A0.z(), 1.0 / p_A0.z());
+  double cost = reprojection_cost(rays, rel, abr, nullptr);
+  double lambda = 1e-6;
+  for (int it = 0; it < params.gn_iterations && std::isfinite(cost); ++it) {
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      Eigen::Vector2d z;
+      Eigen::Matrix<double, 2, 3> J;
+      inverse_depth_projection(abr, rel[i].R_CA, rel[i].p_CA, &z, &J);
+      H += J.transpose() * J;
+      g += J.transpose() * (rays[i].uv_norm - z);
+    }
+    res.iterations = it + 1;
+    bool accepted = false;
+    Eigen::Vector3d step = Eigen::Vector3d::Zero();
+    for (int tries = 0; tries < 10 && !accepted; ++tries) {
+      Eigen::Matrix3d Hd = H;
+      Hd.diagonal() *= (1.0 + lambda);
+      step = Hd.ldlt().solve(g);
+      const Eigen::Vector3d cand = abr + step;
+      const double c = cand.z() > 0.0 ? reprojection_cost(rays, rel, cand, nullptr)
+                                      : std::numeric_limits<double>::infinity();
+      if (c <= cost) {
+        abr = cand;
+        cost = c;
+        lambda = std::max(lambda * 0.1, 1e-10);
+        accepted = true;
+      } else {
+        lambda *= 10.0;
+      }
+    }
+    if (!accepted || step.norm() < params.gn_tolerance) break;
+  }
+
+  if (!(abr.z() > 0.0)) {
+    res.status = TriangulationStatus::kBadDepth;
+    return res;
+  }
+  const Eigen::Vector3d p_A = Eigen::Vector3d(abr.x(), abr.y(), 1.0) / abr.z();
+  if (!(p_A.z() > params.min_depth) || !(p_A.z() < params.max_depth)) {
+    res.status = TriangulationStatus::kBadDepth;
+    return res;
+  }
+  for (const RelativePose& rp : rel) {
+    if (!((rp.R_CA * p_A + rp.p_CA).z() > params.min_depth)) {
+      res.status = TriangulationStatus::kBadDepth;
+      return res;
+    }
+  }
+  const double final_cost = reprojection_cost(rays, rel, abr, &res.max_reproj_error);
+  res.rms_reproj_error = std::sqrt(final_cost / static_cast<double>(rays.size()));
+  res.p_W = R_WA * p_A + p_WA;
+  if (!(res.max_reproj_error <= params.max_reproj_error_norm)) {
+    res.status = TriangulationStatus::kLargeReprojection;
+    return res;
+  }
+  res.status = TriangulationStatus::kOk;
+  return res;
+}
+
+const char* to_string(TriangulationStatus s) {
+  switch (s) {
+    case TriangulationStatus::kOk: return "ok";
+    case TriangulationStatus::kTooFewObservations: return "too_few_observations";
+    case TriangulationStatus::kIllConditioned: return "ill_conditioned";
+    case TriangulationStatus::kLowParallax: return "low_parallax";
+    case TriangulationStatus::kLowBaseline: return "low_baseline";
+    case TriangulationStatus::kBadDepth: return "bad_depth";
+    case TriangulationStatus::kLargeReprojection: return "large_reprojection";
+  }
+  return "unknown";
+}
+
+}  // namespace vid::msckf

@@ -1,0 +1,260 @@
+/// @file visual_update.cpp
+/// @brief Per-feature triangulation, FEJ linearization, left-nullspace projection and chi2
+/// gate, then stacking and QR compression into one linear system.
+
+#include "vio_core/msckf/visual_update.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+#include "vio_core/msckf/linear_algebra.h"
+#include "vio_core/msckf/projection.h"
+#include "vio_core/msckf/triangulation.h"
+
+namespace vid::msckf {
+namespace {
+
+/// One usable observation: which clone, which camera, the measurement.
+struct ObsRef {
+  int clone = 0;
+  int cam = 0;
+  Eigen::Vector2d uv;
+};
+
+/// Columns of the compact system: a 6-column block per touched clone / estimated extrinsic.
+struct CompactLayout {
+  std::vector<int> clone_offset;  ///< per clone, -1 if untouched
+  std::vector<int> ext_offset;    ///< per camera, -1 if not estimated or untouched
+  std::vector<int> block_cov;     ///< cov_index of each compact block
+  int cols() const { return 6 * static_cast<int>(block_cov.size()); }
+};
+
+[[noreturn]] void bad_input(const std::string& what) {
+  throw std::invalid_argument(std::string(__FILE__) + ": build_visual_update: " + what);
+}
+
+void check_inputs(const std::vector<ClonePose>& clones,
+                  const std::vector<CameraExtrinsic>& extrinsics, const Eigen::MatrixXd& P,
+                  const VisualUpdateParams& params) {
+  const Eigen::Index n = P.cols();
+  if (P.rows() != n) bad_input("P is not square");
+  for (std::size_t i = 0; i < clones.size(); ++i) {
+    if (clones[i].cov_index < 0 || clones[i].cov_index + 6 > n) {
+      bad_input("clone " + std::to_string(i) + " cov_index " +
+                std::to_string(clones[i].cov_index) + " does not fit P of size " +
+                std::to_string(n));
+    }
+  }
+  for (std::size_t c = 0; c < extrinsics.size(); ++c) {
+    if (extrinsics[c].cov_index >= 0 && extrinsics[c].cov_index + 6 > n) {
+      bad_input("camera " + std::to_string(c) + " extrinsic cov_index " +
+                std::to_string(extrinsics[c].cov_index) + " does not fit P of size " +
+                std::to_string(n));
+    }
+  }
+  if (!(params.sigma_norm > 0.0)) bad_input("sigma_norm must be > 0");
+  if (!(params.chi2_multiplier > 0.0)) bad_input("chi2_multiplier must be > 0");
+}
+
+/// Adds observation (rows 2a, 2a+1) to the block-sparse product rows HP = H_x * P_T.
+void accumulate_hp(const Eigen::Matrix<double, 2, 6>& J, int offset, const Eigen::MatrixXd& P_T,
+                   Eigen::Ref<Eigen::MatrixXd> hp_rows) {
+  hp_rows.noalias() += J * P_T.middleRows(offset, 6);
+}
+
+}  // namespace
+
+VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
+                                       const std::vector<ClonePose>& clones,
+                                       const std::vector<CameraExtrinsic>& extrinsics,
+                                       const Eigen::MatrixXd& P,
+                                       const VisualUpdateParams& params) {
+  check_inputs(clones, extrinsics, P, params);
+  const double sigma2 = params.sigma_norm * params.sigma_norm;
+  VisualLinearSystem out;
+  out.noise_var = sigma2;
+
+  std::unordered_map<TimeNs, int> clone_of_time;
+  for (std::size_t i = 0; i < clones.size(); ++i) {
+    clone_of_time.emplace(clones[i].t_ns, static_cast<int>(i));
+  }
+
+  // Pass 1: usable observations per track and the touched columns.
+  std::vector<std::vector<ObsRef>> obs_of(tracks.size());
+  std::vector<char> clone_used(clones.size(), 0);
+  std::vector<char> ext_used(extrinsics.size(), 0);
+  for (std::size_t f = 0; f < tracks.size(); ++f) {
+    for (const TrackObservation& o : tracks[f].obs) {
+      if (o.cam_id < 0 || o.cam_id >= static_cast<int>(extrinsics.size())) {
+        bad_input("feature " + std::to_string(tracks[f].feature_id) + " observed by cam " +
+                  std::to_string(o.cam_id) + " but only " + std::to_string(extrinsics.size()) +
+                  " extrinsics given");
+      }
+      const auto it = clone_of_time.find(o.t_ns);
+      if (it == clone_of_time.end()) continue;
+      obs_of[f].push_back({it->second, o.cam_id, o.uv_norm});
+    }
+    // Anchor = earliest observation (then lowest cam id).
+    std::stable_sort(obs_of[f].begin(), obs_of[f].end(), [&](const ObsRef& a, const ObsRef& b) {
+      const TimeNs ta = clones[a.clone].t_ns;
+      const TimeNs tb = clones[b.clone].t_ns;
+      return ta != tb ? ta < tb : a.cam < b.cam;
+    });
+    if (static_cast<int>(obs_of[f].size()) < std::max(params.min_observations, 2)) {
+      ++out.features_too_short;
+      obs_of[f].clear();
+      continue;
+    }
+    for (const ObsRef& o : obs_of[f]) {
+      clone_used[o.clone] = 1;
+      if (extrinsics[o.cam].cov_index >= 0) ext_used[o.cam] = 1;
+    }
+  }
+
+  CompactLayout layout;
+  layout.clone_offset.assign(clones.size(), -1);
+  layout.ext_offset.assign(extrinsics.size(), -1);
+  {
+    // Blocks in cov_index order so the compact system is a column subset of P.
+    std::vector<std::pair<int, int>> blocks;  // (cov_index, clone i or -(cam + 1))
+    for (std::size_t i = 0; i < clones.size(); ++i) {
+      if (clone_used[i]) blocks.emplace_back(clones[i].cov_index, static_cast<int>(i));
+    }
+    for (std::size_t c = 0; c < extrinsics.size(); ++c) {
+      if (ext_used[c]) blocks.emplace_back(extrinsics[c].cov_index, -static_cast<int>(c) - 1);
+    }
+    std::sort(blocks.begin(), blocks.end());
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      if (b > 0 && blocks[b].first < blocks[b - 1].first + 6) {
+        bad_input("covariance blocks overlap at cov_index " + std::to_string(blocks[b].first));
+      }
+      const int off = 6 * static_cast<int>(b);
+      if (blocks[b].second >= 0) {
+        layout.clone_offset[blocks[b].second] = off;
+      } else {
+        layout.ext_offset[-blocks[b].second - 1] = off;
+      }
+      layout.block_cov.push_back(blocks[b].first);
+    }
+  }
+  const int K = layout.cols();
+  const int n = static_cast<int>(P.cols());
+  if (K == 0) {
+    out.H.resize(0, n);
+    out.r.resize(0);
+    return out;
+  }
+  Eigen::MatrixXd P_T(K, K);
+  for (std::size_t a = 0; a < layout.block_cov.size(); ++a) {
+    for (std::size_t b = 0; b < layout.block_cov.size(); ++b) {
+      P_T.block<6, 6>(6 * a, 6 * b) = P.block<6, 6>(layout.block_cov[a], layout.block_cov[b]);
+    }
+  }
+
+  int max_rows = 0;
+  for (const auto& obs : obs_of) {
+    if (!obs.empty()) max_rows += 2 * static_cast<int>(obs.size()) - 3;
+  }
+  Eigen::MatrixXd H_stack(max_rows, K);
+  Eigen::VectorXd r_stack(max_rows);
+  int rows = 0;
+
+  std::vector<CameraRay> rays;
+  std::vector<ProjectionJacobians> jac;
+  for (std::size_t f = 0; f < tracks.size(); ++f) {
+    const std::vector<ObsRef>& obs = obs_of[f];
+    if (obs.empty()) continue;
+    const int m = static_cast<int>(obs.size());
+
+    // Triangulate with the current clone values.
+    rays.resize(m);
+    for (int a = 0; a < m; ++a) {
+      const ClonePose& c = clones[obs[a].clone];
+      const Eigen::Isometry3d& T_IC = extrinsics[obs[a].cam].T_IC;
+      rays[a].R_WC = c.R_WI * T_IC.linear();
+      rays[a].p_WC = c.p_WI + c.R_WI * T_IC.translation();
+      rays[a].uv_norm = obs[a].uv;
+    }
+    const TriangulationResult tri = triangulate(rays, params.triangulation);
+    if (!tri.ok()) {
+      ++out.features_rejected_triangulation;
+      continue;
+    }
+
+    // Residuals at current values, Jacobians at first estimates.
+    Eigen::MatrixXd H_x = Eigen::MatrixXd::Zero(2 * m, K);
+    Eigen::MatrixXd H_f(2 * m, 3);
+    Eigen::VectorXd r(2 * m);
+    jac.resize(m);
+    bool ok = true;
+    for (int a = 0; a < m && ok; ++a) {
+      const ClonePose& c = clones[obs[a].clone];
+      const Eigen::Isometry3d& T_IC = extrinsics[obs[a].cam].T_IC;
+      Eigen::Vector2d z;
+      ok = project_point(c.R_WI, c.p_WI, T_IC, tri.p_W, &z) &&
+           project_with_jacobians(c.R_WI_fej, c.p_WI_fej, T_IC, tri.p_W, &jac[a]);
+      if (!ok) break;
+      r.segment<2>(2 * a) = obs[a].uv - z;
+      H_f.middleRows<2>(2 * a) = jac[a].H_feature;
+      H_x.block<2, 6>(2 * a, layout.clone_offset[obs[a].clone]) = jac[a].H_clone;
+      const int eo = layout.ext_offset[obs[a].cam];
+      if (eo >= 0) H_x.block<2, 6>(2 * a, eo) = jac[a].H_extrinsic;
+    }
+    if (!ok) {
+      ++out.features_rejected_triangulation;
+      continue;
+    }
+
+    // S = H_x P_T H_x^T from the block structure of H_x (2x6 blocks per observation).
+    Eigen::MatrixXd HP = Eigen::MatrixXd::Zero(2 * m, K);
+    for (int a = 0; a < m; ++a) {
+      accumulate_hp(jac[a].H_clone, layout.clone_offset[obs[a].clone], P_T,
+                    HP.middleRows(2 * a, 2));
+      const int eo = layout.ext_offset[obs[a].cam];
+      if (eo >= 0) accumulate_hp(jac[a].H_extrinsic, eo, P_T, HP.middleRows(2 * a, 2));
+    }
+    Eigen::MatrixXd S(2 * m, 2 * m);
+    for (int b = 0; b < m; ++b) {
+      S.middleCols(2 * b, 2).noalias() =
+          HP.middleCols(layout.clone_offset[obs[b].clone], 6) * jac[b].H_clone.transpose();
+      const int eo = layout.ext_offset[obs[b].cam];
+      if (eo >= 0) {
+        S.middleCols(2 * b, 2).noalias() += HP.middleCols(eo, 6) * jac[b].H_extrinsic.transpose();
+      }
+    }
+
+    nullspace_project(H_f, &H_x, &r, &S);
+    S.diagonal().array() += sigma2;
+    const Eigen::LLT<Eigen::MatrixXd> llt(S);
+    if (llt.info() != Eigen::Success) {
+      ++out.features_rejected_chi2;
+      continue;
+    }
+    const double chi2 = r.dot(llt.solve(r));
+    const int dof = 2 * m - 3;
+    if (!(chi2 <= params.chi2_multiplier * chi2_95(dof))) {
+      ++out.features_rejected_chi2;
+      continue;
+    }
+    H_stack.middleRows(rows, dof) = H_x;
+    r_stack.segment(rows, dof) = r;
+    rows += dof;
+    ++out.features_used;
+  }
+
+  H_stack.conservativeResize(rows, K);
+  r_stack.conservativeResize(rows);
+  compress_qr(&H_stack, &r_stack);
+
+  out.H = Eigen::MatrixXd::Zero(H_stack.rows(), n);
+  for (std::size_t b = 0; b < layout.block_cov.size(); ++b) {
+    out.H.middleCols(layout.block_cov[b], 6) = H_stack.middleCols(6 * b, 6);
+  }
+  out.r = std::move(r_stack);
+  return out;
+}
+
+}  // namespace vid::msckf
