@@ -78,32 +78,34 @@ std::vector<cv::Point2f> GridDetector::detect(const cv::Mat& image,
     ++count[static_cast<std::size_t>(cell_of(e))];
   }
 
-  // One FAST pass over the image (inside the border), bucketed by cell.
+  // FAST only in cells below their quota (in steady state most cells are full, so this is
+  // much cheaper than a full-image pass). Each cell is searched with a 3 px apron so corners on
+  // cell borders are not lost to FAST's own border.
   const int b = std::max(p_.border_px, 3);
   if (W <= 2 * b || H <= 2 * b) return out;
-  const cv::Rect roi(b, b, W - 2 * b, H - 2 * b);
-  auto fast_in = [&](const cv::Rect& r, int threshold) {
+  auto fast_in = [&](const cv::Rect& r, int threshold, int cell, std::vector<cv::KeyPoint>* dst) {
     std::vector<cv::KeyPoint> kps;
     cv::FAST(image(r), kps, threshold, true);
-    for (auto& k : kps) k.pt += cv::Point2f(static_cast<float>(r.x), static_cast<float>(r.y));
-    return kps;
+    for (auto& k : kps) {
+      k.pt += cv::Point2f(static_cast<float>(r.x), static_cast<float>(r.y));
+      if (cell_of(k.pt) == cell && k.pt.x >= b && k.pt.y >= b && k.pt.x < W - b && k.pt.y < H - b) {
+        dst->push_back(k);
+      }
+    }
   };
   std::vector<std::vector<cv::KeyPoint>> buckets(static_cast<std::size_t>(n_cells));
-  for (const auto& k : fast_in(roi, p_.fast_threshold)) {
-    buckets[static_cast<std::size_t>(cell_of(k.pt))].push_back(k);
-  }
-  // Retry weakly textured cells with a lower threshold so that every region gets features.
-  if (p_.fast_threshold_min > 0 && p_.fast_threshold_min < p_.fast_threshold) {
-    for (int c = 0; c < n_cells; ++c) {
-      auto& bucket = buckets[static_cast<std::size_t>(c)];
-      if (!bucket.empty() || count[static_cast<std::size_t>(c)] >= quota) continue;
-      const cv::Rect cell(static_cast<int>((c % gc) * cw), static_cast<int>((c / gc) * ch),
-                          static_cast<int>(std::ceil(cw)), static_cast<int>(std::ceil(ch)));
-      const cv::Rect r = cell & roi;
-      if (r.width < 7 || r.height < 7) continue;
-      for (const auto& k : fast_in(r, p_.fast_threshold_min)) {
-        if (cell_of(k.pt) == c) bucket.push_back(k);
-      }
+  for (int c = 0; c < n_cells; ++c) {
+    if (count[static_cast<std::size_t>(c)] >= quota) continue;
+    const int x0 = static_cast<int>(std::floor((c % gc) * cw)) - 3;
+    const int y0 = static_cast<int>(std::floor((c / gc) * ch)) - 3;
+    const cv::Rect cell(x0, y0, static_cast<int>(std::ceil(cw)) + 7, static_cast<int>(std::ceil(ch)) + 7);
+    const cv::Rect r = cell & cv::Rect(b - 3, b - 3, W - 2 * b + 6, H - 2 * b + 6);
+    if (r.width < 7 || r.height < 7) continue;
+    auto& bucket = buckets[static_cast<std::size_t>(c)];
+    fast_in(r, p_.fast_threshold, c, &bucket);
+    // Weakly textured cell: retry with a lower threshold so that every region gets features.
+    if (bucket.empty() && p_.fast_threshold_min > 0 && p_.fast_threshold_min < p_.fast_threshold) {
+      fast_in(r, p_.fast_threshold_min, c, &bucket);
     }
   }
 
