@@ -48,9 +48,16 @@ RunConfig resolve_run_config(const std::optional<fs::path>& config, const io::Da
       cfg.imu = io::load_kalibr_imu(f);
       cfg.sources["imu"] = f.string();
     }
-    if (const fs::path f = dir / "camchain.yaml"; fs::exists(f)) {
-      cfg.cameras = io::load_kalibr_imucam(f);
-      cfg.sources["cameras"] = f.string();
+    for (const char* name : {"camchain.yaml", "camchain-imucam.yaml"}) {
+      if (const fs::path f = dir / name; fs::exists(f)) {
+        cfg.cameras = io::load_kalibr_imucam(f);
+        cfg.sources["cameras"] = f.string();
+        break;
+      }
+    }
+    if (const fs::path f = dir / "rotor_sensor.yaml"; fs::exists(f)) {
+      cfg.rotor = io::load_rotor_yaml(f);
+      cfg.sources["rotor"] = f.string();
     }
     if (const fs::path f = dir / "vehicle.yaml"; fs::exists(f)) {
       cfg.vehicle = io::load_vehicle_yaml(f);

@@ -4,8 +4,8 @@
 /// when given, else the dataset's own sensor.yaml / vehicle.yaml and estimator defaults.
 ///
 /// A preset folder may hold: estimator.yaml (EstimatorParams keys), frontend.yaml
-/// (FrontendParams keys), imu.yaml (Kalibr imu chain), camchain.yaml (Kalibr imucam chain),
-/// vehicle.yaml. Every file is optional; what a preset lacks comes from the dataset.
+/// (FrontendParams keys), imu.yaml (Kalibr imu chain), camchain.yaml or camchain-imucam.yaml
+/// (Kalibr imucam chain), vehicle.yaml, rotor_sensor.yaml. Every file is optional; what a preset lacks comes from the dataset.
 
 #include <filesystem>
 #include <map>
