@@ -12,6 +12,10 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <variant>
+
+#include "io/dataset_reader.h"
+#include "sim/scenario.h"
 
 namespace {
 
@@ -60,6 +64,46 @@ TEST(VidSim, SameSeedGivesIdenticalFolder) {
   // 4 s at 400 Hz plus the sample at t = 0, plus the header line.
   const std::string& imu = a.at("mav0/imu0/data.csv");
   EXPECT_EQ(std::count(imu.begin(), imu.end(), '\n'), 1602);
+  ASSERT_TRUE(a.count("mav0/landmarks.csv"));
+  EXPECT_EQ(a.at("mav0/landmarks.csv").rfind("#id,x,y,z\n", 0), 0u);
+
+  // The folder reads back through the io reader with the scenario's calibration.
+  const vid::sim::Scenario sc = vid::sim::load_scenario(preset("vid17_like_short"));
+  vid::io::DatasetReader reader(base / "a");
+  const auto& cal = reader.calibration();
+  ASSERT_EQ(cal.cameras.size(), 2u);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_LT((cal.cameras[k].T_IC.matrix() - sc.cameras.cameras[k].T_IC.matrix()).norm(), 1e-9);
+    EXPECT_LT((cal.cameras[k].intrinsics - sc.cameras.cameras[k].intrinsics).norm(), 1e-9);
+  }
+  ASSERT_TRUE(cal.rotor.has_value());
+  EXPECT_EQ(cal.rotor->unit, "rpm");
+  EXPECT_EQ(cal.rotor->count, 4);
+  ASSERT_TRUE(cal.vehicle.has_value());
+  EXPECT_DOUBLE_EQ(cal.vehicle->mass_kg, 3.1015);
+  ASSERT_EQ(cal.vehicle->rotor_thrust_coefficients.size(), 4u);
+  EXPECT_DOUBLE_EQ(cal.vehicle->rotor_thrust_coefficients[2], 2.7263e-7);
+  ASSERT_TRUE(cal.imu.has_value());
+  EXPECT_DOUBLE_EQ(cal.imu->rate_hz, 400.0);
+  EXPECT_DOUBLE_EQ(cal.imu->accel_noise_density, 0.1);
+  std::size_t n_imu = 0, n_rotor = 0, n_feat = 0, n_gt = 0, n_force = 0, n_mass = 0;
+  vid::TimeNs last = 0;
+  while (auto m = reader.next()) {
+    EXPECT_GE(vid::stamp_of(*m), last);
+    last = vid::stamp_of(*m);
+    if (std::holds_alternative<vid::ImuSample>(*m)) ++n_imu;
+    if (std::holds_alternative<vid::RotorSample>(*m)) ++n_rotor;
+    if (std::holds_alternative<vid::FeatureFrame>(*m)) ++n_feat;
+    if (std::holds_alternative<vid::GroundTruthSample>(*m)) ++n_gt;
+    if (std::holds_alternative<vid::ForceSample>(*m)) ++n_force;
+    if (std::holds_alternative<vid::MassSample>(*m)) ++n_mass;
+  }
+  EXPECT_EQ(n_imu, 1601u);
+  EXPECT_EQ(n_rotor, 401u);
+  EXPECT_EQ(n_gt, 801u);
+  EXPECT_EQ(n_force, 801u);
+  EXPECT_EQ(n_mass, 801u);
+  EXPECT_EQ(n_feat, 121u);  // 30 Hz over 4 s
   fs::remove_all(base);
 }
 
