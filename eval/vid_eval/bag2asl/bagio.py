@@ -5,11 +5,17 @@ ROS2 metadata/MCAP schemas) with rosbags.typesys get_types_from_msg / get_types_
 typestore per distinct definition, so custom types (uavmotor, djiros, mav_msgs, quadrotor_msgs,
 robotiq_ft_sensor, ...) need no hard-coding and two definitions of one name cannot clash.
 Only when a connection carries no definition the stock store (ROS1 Noetic / ROS2 Humble) is used.
+
+ROS1 bags are streamed by the sequential reader of ros1reader.py (memory independent of the bag's
+size). Only a bag whose chunks overlap in time by more than MAX_OVERLAP_BYTES (not written in
+arrival order, e.g. merged topic by topic) is read with rosbags' indexed Reader, whose memory
+grows with the message count; a warning says so. ROS2 bags use rosbags' Reader.
 """
 from __future__ import annotations
 
 import pathlib
 import struct
+import sys
 import zlib
 from dataclasses import dataclass
 from typing import Iterator
@@ -24,8 +30,12 @@ from rosbags.serde import SerdeError
 from rosbags.typesys import Stores, TypesysError, get_types_from_idl, get_types_from_msg, get_typestore
 
 from .errors import CorruptBagError, UnknownTypeError
+from .ros1reader import Ros1FormatError, Ros1Reader
 
 _IDL_SEP = "=" * 80 + "\n"
+
+# chunk bytes (on disk) that may wait in the sequential reader's reorder heap; above: indexed reader
+MAX_OVERLAP_BYTES = 64 << 20
 
 
 def short_type(msgtype: str) -> str:
@@ -51,14 +61,53 @@ class Bag:
         self.is2 = path.is_dir() or path.suffix in (".db3", ".mcap", ".yaml")
         if self.is2 and not path.is_dir():
             path = path.parent
+        self.sequential = False
+        self.note = ""  # why the indexed reader was used, for the summary
         try:
-            self.reader = Reader2(path) if self.is2 else Reader1(path)
-            self.reader.open()
+            if self.is2:
+                self.reader = Reader2(path)
+                self.reader.open()
+            else:
+                self._open_ros1(path)
+        except Ros1FormatError as err:
+            raise CorruptBagError(f"{path}: corrupt or truncated bag: {err}") from None
         except (ReaderError1, ReaderError2, OSError, struct.error, ValueError, KeyError,
                 EOFError, zlib.error) as err:
             raise CorruptBagError(_corrupt_message(path, err)) from None
         self._fallback = None
         self._stores: dict[tuple[str, str], object] = {}
+
+    def _open_ros1(self, path: pathlib.Path) -> None:
+        seq = Ros1Reader(path)
+        seq.open()
+        if seq.max_overlap_bytes <= MAX_OVERLAP_BYTES:
+            self.reader = seq
+            self.sequential = True
+            return
+        seq.close()
+        self.note = (f"chunks overlap in time by up to {seq.max_overlap_bytes / 1e6:.0f} MB (not written in "
+                     "time order): indexed reader, memory grows with the message count")
+        print(f"warning: {path}: {self.note}", file=sys.stderr)
+        self.reader = Reader1(path)
+        self.reader.open()
+
+    def reader_summary(self) -> dict:
+        """Which reader streamed the bag, and how much the sequential one held back for ordering."""
+        if self.is2:
+            return {"reader": "rosbags ROS2 reader"}
+        if not self.sequential:
+            return {"reader": "rosbags indexed ROS1 reader", "reason": self.note}
+        return {"reader": "sequential ROS1 reader (one chunk at a time)",
+                "chunk_overlap_bound_mb": round(self.reader.max_overlap_bytes / 1e6, 3),
+                "reorder_peak_messages": self.reader.peak_held_messages,
+                "reorder_peak_mb": round(self.reader.peak_held_bytes / 1e6, 3)}
+
+    def progress(self, bag_ns: int, t0: int, t1: int) -> tuple[int, int]:
+        """(done, total) for the progress bar: bytes read of the sequential reader, else bag time."""
+        if self.sequential:
+            r = self.reader
+            return r.position - r.data_start, r.index_pos - r.data_start
+        return bag_ns - t0, t1 - t0
 
     def close(self) -> None:
         try:
@@ -156,6 +205,8 @@ class Bag:
                 item = next(it)
             except StopIteration:
                 return
+            except Ros1FormatError as err:
+                raise CorruptBagError(f"{self.path}: corrupt or truncated bag: {err}") from None
             except (ReaderError1, ReaderError2, OSError, struct.error, ValueError, KeyError, EOFError,
                     AssertionError, IndexError, zlib.error, RuntimeError) as err:
                 raise CorruptBagError(_corrupt_message(self.path, err)) from None

@@ -122,11 +122,13 @@ def convert(opts: Options, log=print) -> dict:
         try:
             handlers = _make_handlers(resolved, mav0, opts.bag, opts, mass_kg, preset, pngs)
             wall, cpu = _stream(bag, handlers, start, stop, opts, pngs)
+            reader = bag.reader_summary()
         finally:
             pngs.close()  # idempotent; on errors it still stops the worker threads
     finally:
         bag.close()
     summary = _summary(opts, profile, handlers, mass_kg, mass_source, wall, cpu, tmap, pngs.png_bytes)
+    summary["bag_reader"] = reader
     _write_calibration(preset, mav0, handlers, mass_kg, mass_source)
     _write_summary(opts.out / "bag2asl.yaml", summary)
     _log_summary(summary, log)
@@ -144,15 +146,16 @@ def _stream(bag, handlers, start, stop, opts, pngs):
     images = [h for h in handlers if isinstance(h, ImageHandler)]
     t0 = start if start is not None else bag.start_ns
     t1 = stop if stop is not None else bag.end_ns
-    bar = Progress(t1 - t0, opts.progress)
+    bar = Progress(bag.progress(t0, t0, t1)[1], opts.progress)  # bytes read (ROS1) or bag time
     wall = time.monotonic()
     cpu = time.process_time()
     try:
         for conn, bag_ns, raw in bag.messages(conns, start, stop):
             for h, index, topic, msgtype, deser in routes[conn.id]:
                 h.feed(index, topic, msgtype, deser(raw), bag_ns)
-            bar.update(bag_ns - t0, sum(h.raw_bytes for h in images))
-        bar.update(t1 - t0, sum(h.raw_bytes for h in images), force=True)
+            if bar.enabled:
+                bar.update(bag.progress(bag_ns, t0, t1)[0], sum(h.raw_bytes for h in images))
+        bar.update(bar.total, sum(h.raw_bytes for h in images), force=True)
     finally:
         bar.close()
     pngs.close()  # wait for the last PNGs (and their errors) before timing and closing the CSVs

@@ -1,4 +1,6 @@
-"""A small progress bar on stderr, drawn only when stderr is a terminal."""
+"""A small progress bar on stderr, drawn only when stderr is a terminal.
+
+`done`/`total` are in any unit (bytes read of a ROS1 bag, nanoseconds of bag time otherwise)."""
 from __future__ import annotations
 
 import sys
@@ -6,21 +8,21 @@ import time
 
 
 class Progress:
-    def __init__(self, total_ns: int, enabled: bool | None = None, stream=None):
+    def __init__(self, total: int, enabled: bool | None = None, stream=None):
         self.stream = stream or sys.stderr
         self.enabled = self.stream.isatty() if enabled is None else enabled
-        self.total = max(int(total_ns), 1)
+        self.total = max(int(total), 1)
         self.start = time.monotonic()
         self.last_draw = 0.0
 
-    def update(self, done_ns: int, image_bytes: int, force: bool = False) -> None:
+    def update(self, done: int, image_bytes: int, force: bool = False) -> None:
         if not self.enabled:
             return
         now = time.monotonic()
         if not force and now - self.last_draw < 0.1:
             return
         self.last_draw = now
-        frac = min(max(done_ns / self.total, 0.0), 1.0)
+        frac = min(max(done / self.total, 0.0), 1.0)
         width = 30
         fill = int(frac * width)
         elapsed = now - self.start
