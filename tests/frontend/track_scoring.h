@@ -6,6 +6,7 @@
 // by the left observation in the same frame.
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -31,6 +32,8 @@ struct TrackScore {
   double stereo_fraction = 0;     ///< right matches / left tracks
   double kept_fraction = 0;       ///< sum kept / sum previous, frame to frame
   double mean_ms = 0;
+  /// Errors by track age: 1, 2-5, 6-20, 21-60, > 60 frames (for the report).
+  std::array<std::vector<double>, 5> err_by_age;
 };
 
 /// Ground-truth pose interpolation (linear position, slerp orientation).
@@ -136,6 +139,8 @@ inline TrackScore score_sequence(const std::filesystem::path& dataset, const Fro
           const double e = (uv_true - Eigen::Vector2d(t.uv0.x, t.uv0.y)).norm();
           errs.push_back(e);
           b.max_err = std::max(b.max_err, e);
+          const int bin = t.age < 2 ? 0 : t.age < 6 ? 1 : t.age < 21 ? 2 : t.age < 61 ? 3 : 4;
+          s.err_by_age[static_cast<std::size_t>(bin)].push_back(e);
         }
       }
       ++b.length;
@@ -185,6 +190,12 @@ inline void print_score(const char* name, const TrackScore& s) {
       name, s.frames, s.mean_features, s.median_err_px, s.p90_err_px, s.tracks,
       100 * s.drift_fraction, s.mean_track_length, 100 * s.stereo_fraction, s.median_disp_err_px,
       100 * s.kept_fraction, s.mean_ms);
+  const char* bins[] = {"1", "2-5", "6-20", "21-60", ">60"};
+  std::printf("  median error by track age:");
+  for (std::size_t i = 0; i < 5; ++i) {
+    std::printf(" [%s] %.3f (n=%zu)", bins[i], median_of(s.err_by_age[i]), s.err_by_age[i].size());
+  }
+  std::printf("\n");
 }
 
 }  // namespace vid::test
