@@ -125,6 +125,7 @@ def test_ros1_raw_vid_bag_every_value(tmp_path, compression, capsys):
     assert summary["streams"]["rotor0"]["source"] == "measured_per_motor"
     assert summary["streams"]["state_groundtruth_estimate0"]["velocity"] == "central_finite_difference"
     assert summary["mass_source"].startswith("VID sequence 17")
+    assert summary["bag_reader"]["reader"].startswith("sequential")  # constant-memory ROS1 path
     assert "measured_per_motor" in capsys.readouterr().out
     vehicle = yaml.safe_load((mav0 / "vehicle.yaml").read_text())
     assert vehicle == {"mass_kg": 3.1015, "gravity": 9.81,

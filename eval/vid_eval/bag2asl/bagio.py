@@ -85,7 +85,7 @@ class Bag:
             self.sequential = True
             return
         seq.close()
-        self.note = (f"chunks overlap in time by up to {seq.max_overlap_bytes / 1e6:.0f} MB (not written in "
+        self.note = (f"chunks overlap in time by up to {seq.max_overlap_bytes / 1e6:.1f} MB (not written in "
                      "time order): indexed reader, memory grows with the message count")
         print(f"warning: {path}: {self.note}", file=sys.stderr)
         self.reader = Reader1(path)
@@ -96,7 +96,7 @@ class Bag:
         if self.is2:
             return {"reader": "rosbags ROS2 reader"}
         if not self.sequential:
-            return {"reader": "rosbags indexed ROS1 reader", "reason": self.note}
+            return {"reader": "indexed ROS1 reader (rosbags)", "reason": self.note}
         return {"reader": "sequential ROS1 reader (one chunk at a time)",
                 "chunk_overlap_bound_mb": round(self.reader.max_overlap_bytes / 1e6, 3),
                 "reorder_peak_messages": self.reader.peak_held_messages,

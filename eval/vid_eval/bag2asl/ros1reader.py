@@ -56,7 +56,7 @@ class Ros1Connection:
     topic: str
     msgtype: str  # normalized 'pkg/msg/Name'
     msgdef: MessageDefinition
-    md5sum: str
+    digest: str  # md5sum field
     msgcount: int
     callerid: str | None = None
     latching: int | None = None
@@ -247,7 +247,7 @@ class Ros1Reader:
             msgtype=normalize_msgtype(_field(conn_fields, "type", "str", where)),
             msgdef=MessageDefinition(MessageDefinitionFormat.MSG,
                                      _field(conn_fields, "message_definition", "str", where)),
-            md5sum=_field(conn_fields, "md5sum", "str", where),
+            digest=_field(conn_fields, "md5sum", "str", where),
             msgcount=0,
             callerid=conn_fields[b"callerid"].decode(errors="replace") if b"callerid" in conn_fields else None,
             latching=int(latching) if latching not in (None, b"") else None)
