@@ -139,7 +139,8 @@ std::unique_ptr<Trajectory> make_random(const TrajectoryConfig& c) {
   if (!(c.waypoint_spacing_s > 0.0)) throw std::invalid_argument("trajectory: waypoint_spacing_s must be > 0");
   if (!((c.box_max - c.box_min).minCoeff() >= 0.0)) throw std::invalid_argument("trajectory: box_min > box_max");
   Rng rng(derive_seed(c.seed, 0x7472616aULL));
-  const int n_random = static_cast<int>(std::ceil(2.0 * c.duration_s / c.waypoint_spacing_s)) + 4;
+  // Control points for at least 600 s: shorter runs (--duration) fly a prefix of the same path.
+  const int n_random = static_cast<int>(std::ceil(2.0 * std::max(c.duration_s, 600.0) / c.waypoint_spacing_s)) + 4;
   const int clamp = UniformBSpline::kDegree + 1;
   Eigen::MatrixXd P(3, n_random + 2 * clamp);
   Eigen::MatrixXd Y(1, n_random + 2 * clamp);
