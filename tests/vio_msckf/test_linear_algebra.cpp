@@ -93,6 +93,30 @@ TEST(QrCompression, NoOpWhenFewerRowsThanColumns) {
   EXPECT_EQ(r, r0);
 }
 
+TEST(NormalEquationFactor, ReproducesNormalEquationsOfRankDeficientSystem) {
+  std::mt19937 rng(9);
+  for (int rank_drop : {0, 1, 6}) {
+    Eigen::MatrixXd H = random_matrix(300, 66, rng);
+    for (int k = 0; k < rank_drop; ++k) H.col(10 + k) = H.col(0) + 0.5 * H.col(1 + k);
+    const Eigen::VectorXd r = random_matrix(300, 1, rng);
+    const Eigen::MatrixXd A = H.transpose() * H;
+    const Eigen::VectorXd b = H.transpose() * r;
+    Eigen::MatrixXd Hc;
+    Eigen::VectorXd rc;
+    factor_normal_equations(A, b, &Hc, &rc);
+    EXPECT_EQ(Hc.rows(), 66 - rank_drop);
+    EXPECT_EQ(Hc.cols(), 66);
+    EXPECT_EQ(rc.size(), Hc.rows());
+    EXPECT_LT((Hc.transpose() * Hc - A).norm(), 1e-10 * A.norm()) << "rank drop " << rank_drop;
+    EXPECT_LT((Hc.transpose() * rc - b).norm(), 1e-9 * b.norm()) << "rank drop " << rank_drop;
+  }
+  Eigen::MatrixXd Hc;
+  Eigen::VectorXd rc;
+  EXPECT_THROW(factor_normal_equations(Eigen::MatrixXd::Identity(3, 3), Eigen::VectorXd::Ones(2),
+                                       &Hc, &rc),
+               std::invalid_argument);
+}
+
 TEST(Chi2, QuantilesMatchTables) {
   // Standard table values of the chi-square distribution.
   EXPECT_NEAR(chi2_95(1), 3.841459, 1e-5);

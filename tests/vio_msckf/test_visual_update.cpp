@@ -145,6 +145,46 @@ TEST(VisualUpdate, LinearizationMatchesPerturbedResidualIncludingExtrinsics) {
   EXPECT_LT((sys1.r - predicted).norm(), 1e-3 * predicted.norm());
 }
 
+TEST(VisualUpdate, NormalEquationCompressionMatchesQr) {
+  for (bool with_extrinsics : {false, true}) {
+    SceneOptions opt;
+    opt.pixel_sigma_norm = 1.0 / kFocal;
+    Scene s = make_scene(opt);
+    int extra = 0;
+    if (with_extrinsics) {
+      s.extrinsics[0].cov_index = s.state_dim;
+      s.extrinsics[1].cov_index = s.state_dim + 6;
+      extra = 12;
+    }
+    const Eigen::MatrixXd P = prior(s, extra, 0.2);
+    const std::vector<ClonePose> est = perturbed(s, P, 5);
+    VisualUpdateParams pq = params_for(1.0);
+    VisualUpdateParams pn = pq;
+    pn.compression = Compression::kNormalEquations;
+    const auto q = build_visual_update(s.tracks, est, s.extrinsics, P, pq);
+    const auto ne = build_visual_update(s.tracks, est, s.extrinsics, P, pn);
+    EXPECT_EQ(q.features_used, ne.features_used);
+    EXPECT_EQ(q.features_rejected_chi2, ne.features_rejected_chi2);
+    EXPECT_GT(q.features_used, 30);
+    ASSERT_EQ(ne.H.cols(), P.cols());
+    EXPECT_LE(ne.H.rows(), q.H.rows());  // gauge directions dropped
+    const Eigen::MatrixXd Aq = q.H.transpose() * q.H;
+    const Eigen::MatrixXd An = ne.H.transpose() * ne.H;
+    const Eigen::VectorXd bq = q.H.transpose() * q.r;
+    const Eigen::VectorXd bn = ne.H.transpose() * ne.r;
+    EXPECT_LT((Aq - An).norm(), 1e-9 * Aq.norm()) << "extrinsics " << with_extrinsics;
+    EXPECT_LT((bq - bn).norm(), 1e-7 * bq.norm()) << "extrinsics " << with_extrinsics;
+    // Same EKF correction.
+    const auto correction = [&](const VisualLinearSystem& sys) {
+      Eigen::MatrixXd Sm = sys.H * P * sys.H.transpose();
+      Sm.diagonal().array() += sys.noise_var;
+      return Eigen::VectorXd(P * sys.H.transpose() * Sm.ldlt().solve(sys.r));
+    };
+    const Eigen::VectorXd dq = correction(q);
+    EXPECT_LT((dq - correction(ne)).norm(), 1e-6 * dq.norm());
+  }
+}
+
 TEST(VisualUpdate, JacobiansUseFirstEstimatesResidualsUseCurrentValues) {
   SceneOptions opt;
   opt.num_features = 5;

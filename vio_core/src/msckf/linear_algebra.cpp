@@ -11,6 +11,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace vid::msckf {
 
@@ -62,6 +63,60 @@ void compress_qr(Eigen::MatrixXd* H, Eigen::VectorXd* r) {
   Eigen::MatrixXd R = H->topRows(n).triangularView<Eigen::Upper>();
   *H = std::move(R);
   r->conservativeResize(n);
+}
+
+void factor_normal_equations(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                             Eigen::MatrixXd* H_c, Eigen::VectorXd* r_c, double rel_tol) {
+  const Eigen::Index n = A.rows();
+  if (A.cols() != n || b.size() != n) {
+    throw std::invalid_argument(std::string(__FILE__) + ": factor_normal_equations: A must be "
+                                "square and b match it");
+  }
+  if (n == 0) {
+    H_c->resize(0, 0);
+    r_c->resize(0);
+    return;
+  }
+  // Pivoted Cholesky (complete diagonal pivoting, right-looking, stops at the numerical
+  // rank): A(perm, perm) = L L^T with L (n x rank) lower trapezoidal. Then A = (P L)(P L)^T,
+  // so H_c = L^T P^T and r_c solves L_top r_c = b(perm)(0:rank).
+  Eigen::MatrixXd W = A;
+  std::vector<Eigen::Index> perm(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i) perm[static_cast<std::size_t>(i)] = i;
+  const double stop = rel_tol * std::max(W.diagonal().maxCoeff(), 0.0);
+  Eigen::Index rank = 0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    Eigen::Index j = 0;
+    const double piv = W.diagonal().tail(n - k).maxCoeff(&j);
+    j += k;
+    if (!(piv > stop)) break;
+    if (j != k) {
+      // Symmetric swap of rows/cols k and j (the lower triangle is kept complete).
+      W.row(k).swap(W.row(j));
+      W.col(k).swap(W.col(j));
+      std::swap(perm[static_cast<std::size_t>(k)], perm[static_cast<std::size_t>(j)]);
+    }
+    const double lkk = std::sqrt(W(k, k));
+    W(k, k) = lkk;
+    const Eigen::Index rest = n - k - 1;
+    W.col(k).tail(rest) /= lkk;
+    W.bottomRightCorner(rest, rest).selfadjointView<Eigen::Lower>().rankUpdate(
+        W.col(k).tail(rest), -1.0);
+    // Keep the trailing block symmetric so later row/col swaps stay valid.
+    W.bottomRightCorner(rest, rest).triangularView<Eigen::StrictlyUpper>() =
+        W.bottomRightCorner(rest, rest).transpose();
+    ++rank;
+  }
+  Eigen::VectorXd pb(rank);
+  for (Eigen::Index i = 0; i < rank; ++i) pb(i) = b(perm[static_cast<std::size_t>(i)]);
+  const auto L_top = W.topLeftCorner(rank, rank).triangularView<Eigen::Lower>();
+  L_top.solveInPlace(pb);
+  H_c->setZero(rank, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Index cols = std::min<Eigen::Index>(i + 1, rank);
+    H_c->col(perm[static_cast<std::size_t>(i)]).head(cols) = W.row(i).head(cols).transpose();
+  }
+  *r_c = std::move(pb);
 }
 
 namespace {

@@ -154,16 +154,23 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
     }
   }
 
+  const bool use_qr = params.compression == Compression::kQr;
   int max_rows = 0;
   for (const auto& obs : obs_of) {
     if (!obs.empty()) max_rows += 2 * static_cast<int>(obs.size()) - 3;
   }
-  Eigen::MatrixXd H_stack(max_rows, K);
-  Eigen::VectorXd r_stack(max_rows);
+  Eigen::MatrixXd H_stack(use_qr ? max_rows : 0, K);
+  Eigen::VectorXd r_stack(use_qr ? max_rows : 0);
   int rows = 0;
+  // Normal equations (lower triangle) for Compression::kNormalEquations.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(use_qr ? 0 : K, use_qr ? 0 : K);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(use_qr ? 0 : K);
 
+  // Buffers reused across features.
   std::vector<CameraRay> rays;
   std::vector<ProjectionJacobians> jac;
+  Eigen::MatrixXd H_x, H_f, HP, S, F;
+  Eigen::VectorXd r, r_o;
   for (std::size_t f = 0; f < tracks.size(); ++f) {
     const std::vector<ObsRef>& obs = obs_of[f];
     if (obs.empty()) continue;
@@ -185,9 +192,8 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
     }
 
     // Residuals at current values, Jacobians at first estimates.
-    Eigen::MatrixXd H_x = Eigen::MatrixXd::Zero(2 * m, K);
-    Eigen::MatrixXd H_f(2 * m, 3);
-    Eigen::VectorXd r(2 * m);
+    H_f.resize(2 * m, 3);
+    r.resize(2 * m);
     jac.resize(m);
     bool ok = true;
     for (int a = 0; a < m && ok; ++a) {
@@ -199,9 +205,6 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
       if (!ok) break;
       r.segment<2>(2 * a) = obs[a].uv - z;
       H_f.middleRows<2>(2 * a) = jac[a].H_feature;
-      H_x.block<2, 6>(2 * a, layout.clone_offset[obs[a].clone]) = jac[a].H_clone;
-      const int eo = layout.ext_offset[obs[a].cam];
-      if (eo >= 0) H_x.block<2, 6>(2 * a, eo) = jac[a].H_extrinsic;
     }
     if (!ok) {
       ++out.features_rejected_triangulation;
@@ -209,51 +212,108 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
     }
 
     // S = H_x P_T H_x^T from the block structure of H_x (2x6 blocks per observation).
-    Eigen::MatrixXd HP = Eigen::MatrixXd::Zero(2 * m, K);
+    HP.setZero(2 * m, K);
     for (int a = 0; a < m; ++a) {
       accumulate_hp(jac[a].H_clone, layout.clone_offset[obs[a].clone], P_T,
                     HP.middleRows(2 * a, 2));
       const int eo = layout.ext_offset[obs[a].cam];
       if (eo >= 0) accumulate_hp(jac[a].H_extrinsic, eo, P_T, HP.middleRows(2 * a, 2));
     }
-    Eigen::MatrixXd S(2 * m, 2 * m);
-    for (int b = 0; b < m; ++b) {
-      S.middleCols(2 * b, 2).noalias() =
-          HP.middleCols(layout.clone_offset[obs[b].clone], 6) * jac[b].H_clone.transpose();
-      const int eo = layout.ext_offset[obs[b].cam];
+    S.resize(2 * m, 2 * m);
+    for (int c = 0; c < m; ++c) {
+      S.middleCols(2 * c, 2).noalias() =
+          HP.middleCols(layout.clone_offset[obs[c].clone], 6) * jac[c].H_clone.transpose();
+      const int eo = layout.ext_offset[obs[c].cam];
       if (eo >= 0) {
-        S.middleCols(2 * b, 2).noalias() += HP.middleCols(eo, 6) * jac[b].H_extrinsic.transpose();
+        S.middleCols(2 * c, 2).noalias() += HP.middleCols(eo, 6) * jac[c].H_extrinsic.transpose();
       }
     }
 
-    nullspace_project(H_f, &H_x, &r, &S);
+    // Left-nullspace projection; H_x only needs projecting for the QR path.
+    if (use_qr) {
+      H_x.setZero(2 * m, K);
+      for (int a = 0; a < m; ++a) {
+        H_x.block<2, 6>(2 * a, layout.clone_offset[obs[a].clone]) = jac[a].H_clone;
+        const int eo = layout.ext_offset[obs[a].cam];
+        if (eo >= 0) H_x.block<2, 6>(2 * a, eo) = jac[a].H_extrinsic;
+      }
+    } else {
+      H_x.resize(2 * m, 0);
+    }
+    r_o = r;
+    nullspace_project(H_f, &H_x, &r_o, &S);
     S.diagonal().array() += sigma2;
     const Eigen::LLT<Eigen::MatrixXd> llt(S);
     if (llt.info() != Eigen::Success) {
       ++out.features_rejected_chi2;
       continue;
     }
-    const double chi2 = r.dot(llt.solve(r));
+    const double chi2 = r_o.dot(llt.solve(r_o));
     const int dof = 2 * m - 3;
     if (!(chi2 <= params.chi2_multiplier * chi2_95(dof))) {
       ++out.features_rejected_chi2;
       continue;
     }
-    H_stack.middleRows(rows, dof) = H_x;
-    r_stack.segment(rows, dof) = r;
-    rows += dof;
     ++out.features_used;
+    if (use_qr) {
+      H_stack.middleRows(rows, dof) = H_x;
+      r_stack.segment(rows, dof) = r_o;
+      rows += dof;
+      continue;
+    }
+
+    // Normal equations of the projected rows without forming them:
+    // H_o^T H_o = H_x^T H_x - F M^-1 F^T, H_o^T r_o = H_x^T r_perp, with F = H_x^T H_f,
+    // M = H_f^T H_f and r_perp = r - H_f M^-1 H_f^T r (N N^T = I - H_f M^-1 H_f^T).
+    const Eigen::Matrix3d M = H_f.transpose() * H_f;
+    const Eigen::LLT<Eigen::Matrix3d> mllt(M);
+    const Eigen::VectorXd r_perp = r - H_f * mllt.solve(H_f.transpose() * r);
+    F.setZero(K, 3);
+    for (int a = 0; a < m; ++a) {
+      const int co = layout.clone_offset[obs[a].clone];
+      const int eo = layout.ext_offset[obs[a].cam];
+      const auto& Jc = jac[a].H_clone;
+      const auto Jf = H_f.middleRows<2>(2 * a);
+      A.block<6, 6>(co, co).noalias() += Jc.transpose() * Jc;
+      F.middleRows<6>(co).noalias() += Jc.transpose() * Jf;
+      b.segment<6>(co).noalias() += Jc.transpose() * r_perp.segment<2>(2 * a);
+      if (eo >= 0) {
+        const auto& Je = jac[a].H_extrinsic;
+        A.block<6, 6>(eo, eo).noalias() += Je.transpose() * Je;
+        // Cross block in the lower triangle.
+        if (eo > co) {
+          A.block<6, 6>(eo, co).noalias() += Je.transpose() * Jc;
+        } else {
+          A.block<6, 6>(co, eo).noalias() += Jc.transpose() * Je;
+        }
+        F.middleRows<6>(eo).noalias() += Je.transpose() * Jf;
+        b.segment<6>(eo).noalias() += Je.transpose() * r_perp.segment<2>(2 * a);
+      }
+    }
+    // F M^-1 F^T = (F L^-T)(F L^-T)^T with M = L L^T.
+    mllt.matrixU().solveInPlace<Eigen::OnTheRight>(F);
+    A.selfadjointView<Eigen::Lower>().rankUpdate(F, -1.0);
   }
 
-  H_stack.conservativeResize(rows, K);
-  r_stack.conservativeResize(rows);
-  compress_qr(&H_stack, &r_stack);
-
-  out.H = Eigen::MatrixXd::Zero(H_stack.rows(), n);
-  for (std::size_t b = 0; b < layout.block_cov.size(); ++b) {
-    out.H.middleCols(layout.block_cov[b], 6) = H_stack.middleCols(6 * b, 6);
+  Eigen::MatrixXd H_c;
+  if (use_qr) {
+    H_stack.conservativeResize(rows, K);
+    r_stack.conservativeResize(rows);
+    compress_qr(&H_stack, &r_stack);
+    H_c = std::move(H_stack);
+    out.r = std::move(r_stack);
+  } else if (out.features_used > 0) {
+    const Eigen::MatrixXd A_full = A.selfadjointView<Eigen::Lower>();
+    factor_normal_equations(A_full, b, &H_c, &out.r);
+  } else {
+    H_c.resize(0, K);
+    out.r.resize(0);
   }
-  out.r = std::move(r_stack);
+
+  out.H = Eigen::MatrixXd::Zero(H_c.rows(), n);
+  for (std::size_t blk = 0; blk < layout.block_cov.size(); ++blk) {
+    out.H.middleCols(layout.block_cov[blk], 6) = H_c.middleCols(6 * blk, 6);
+  }
   return out;
 }
 

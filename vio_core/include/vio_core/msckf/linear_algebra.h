@@ -18,6 +18,15 @@ void nullspace_project(const Eigen::MatrixXd& H_f, Eigen::MatrixXd* H_x, Eigen::
 /// Keeps H^T H and H^T r unchanged. No-op when m <= n.
 void compress_qr(Eigen::MatrixXd* H, Eigen::VectorXd* r);
 
+/// @brief From normal equations A = H^T H (symmetric positive semi-definite) and b = H^T r,
+/// build (H_c, r_c) with H_c^T H_c = A and H_c^T r_c = b by pivoted Cholesky (complete
+/// diagonal pivoting) stopped at the numerical rank (remaining pivots <= rel_tol * max diag
+/// of A), so H_c has rank rows and b must lie in the range of A (it does when it came from
+/// the same H).
+void factor_normal_equations(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                             Eigen::MatrixXd* H_c, Eigen::VectorXd* r_c,
+                             double rel_tol = 1e-12);
+
 /// @brief chi2 quantile: x with P(chi2_dof <= x) = p (0 < p < 1, dof >= 1).
 double chi2_quantile(double p, int dof);
 

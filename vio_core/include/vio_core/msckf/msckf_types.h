@@ -61,11 +61,19 @@ struct TriangulationParams {
   double max_reproj_error_norm = 0.05;  ///< per observation, normalized units, after GN
 };
 
+/// @brief How the stacked per-feature systems are compressed to at most (touched columns)
+/// rows. Both keep H^T H and H^T r, i.e. give the same EKF update.
+enum class Compression {
+  kQr,               ///< Householder QR of the stacked nullspace-projected rows (default)
+  kNormalEquations,  ///< H^T H, H^T r accumulated from the block structure, pivoted LDLT
+};
+
 /// @brief Parameters of the visual MSCKF update.
 struct VisualUpdateParams {
   double sigma_norm = 1.0 / 400.0;  ///< pixel noise in normalized image units (1 px / f)
   double chi2_multiplier = 1.0;     ///< gate: chi2 <= multiplier * chi2inv(0.95, dof)
   int min_observations = 3;         ///< observations at clone times (stereo pair = 2)
+  Compression compression = Compression::kQr;
   TriangulationParams triangulation;
 };
 
