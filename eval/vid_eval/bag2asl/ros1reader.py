@@ -184,7 +184,7 @@ class Ros1Reader:
         self._file.seek(0)
         magic = self._file.read(len(MAGIC))
         if magic != MAGIC:
-            raise Ros1FormatError(f"not a ROS1 v2.0 bag (the file does not start with '#ROSBAG V2.0') at byte 0")
+            raise Ros1FormatError("not a ROS1 v2.0 bag (the file does not start with '#ROSBAG V2.0') at byte 0")
         fields, data_pos, dlen = self._record_header(len(MAGIC), "bag header record")
         where = f"bag header record at byte {len(MAGIC)}"
         if _field(fields, "op", "u8", where) != OP_BAG_HEADER:
