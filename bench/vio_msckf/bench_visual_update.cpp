@@ -59,8 +59,10 @@ Setup make_setup(int features, int clones, bool stereo, bool estimate_extrinsics
 }
 
 void BM_BuildVisualUpdate(benchmark::State& state) {
-  const Setup s = make_setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
-                             state.range(2) != 0, state.range(3) != 0);
+  Setup s = make_setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
+                       state.range(2) != 0, state.range(3) != 0);
+  s.params.compression =
+      state.range(4) != 0 ? Compression::kNormalEquations : Compression::kQr;
   int used = 0;
   Eigen::Index rows = 0;
   for (auto _ : state) {
@@ -74,11 +76,14 @@ void BM_BuildVisualUpdate(benchmark::State& state) {
   state.counters["rows_out"] = static_cast<double>(rows);
 }
 BENCHMARK(BM_BuildVisualUpdate)
-    ->ArgNames({"features", "clones", "stereo", "extrinsics"})
-    ->Args({40, 11, 1, 0})
-    ->Args({40, 11, 1, 1})
-    ->Args({40, 11, 0, 0})
-    ->Args({100, 11, 1, 0})
+    ->ArgNames({"features", "clones", "stereo", "extrinsics", "normal_eq"})
+    ->Args({40, 11, 1, 0, 0})
+    ->Args({40, 11, 1, 0, 1})
+    ->Args({40, 11, 1, 1, 0})
+    ->Args({40, 11, 1, 1, 1})
+    ->Args({40, 11, 0, 0, 0})
+    ->Args({40, 11, 0, 0, 1})
+    ->Args({100, 11, 1, 0, 1})
     ->Unit(benchmark::kMicrosecond);
 
 void BM_Triangulate22Rays(benchmark::State& state) {

@@ -123,6 +123,7 @@ TriangulationResult triangulate(const std::vector<CameraRay>& rays,
       g += J.transpose() * (rays[i].uv_norm - z);
     }
     res.iterations = it + 1;
+    const double prev_cost = cost;
     bool accepted = false;
     Eigen::Vector3d step = Eigen::Vector3d::Zero();
     for (int tries = 0; tries < 10 && !accepted; ++tries) {
@@ -141,7 +142,10 @@ TriangulationResult triangulate(const std::vector<CameraRay>& rays,
         lambda *= 10.0;
       }
     }
-    if (!accepted || step.norm() < params.gn_tolerance) break;
+    // Converged: tiny step, or the cost no longer decreases measurably.
+    if (!accepted || step.norm() < params.gn_tolerance || prev_cost - cost <= 1e-12 * prev_cost) {
+      break;
+    }
   }
 
   if (!(abr.z() > 0.0)) {

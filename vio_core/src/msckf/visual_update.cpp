@@ -219,15 +219,20 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
       const int eo = layout.ext_offset[obs[a].cam];
       if (eo >= 0) accumulate_hp(jac[a].H_extrinsic, eo, P_T, HP.middleRows(2 * a, 2));
     }
+    // Lower block triangle only (S is symmetric), then mirrored.
     S.resize(2 * m, 2 * m);
     for (int c = 0; c < m; ++c) {
-      S.middleCols(2 * c, 2).noalias() =
-          HP.middleCols(layout.clone_offset[obs[c].clone], 6) * jac[c].H_clone.transpose();
+      const int rows_below = 2 * (m - c);
+      S.block(2 * c, 2 * c, rows_below, 2).noalias() =
+          HP.block(2 * c, layout.clone_offset[obs[c].clone], rows_below, 6) *
+          jac[c].H_clone.transpose();
       const int eo = layout.ext_offset[obs[c].cam];
       if (eo >= 0) {
-        S.middleCols(2 * c, 2).noalias() += HP.middleCols(eo, 6) * jac[c].H_extrinsic.transpose();
+        S.block(2 * c, 2 * c, rows_below, 2).noalias() +=
+            HP.block(2 * c, eo, rows_below, 6) * jac[c].H_extrinsic.transpose();
       }
     }
+    S.triangularView<Eigen::StrictlyUpper>() = S.transpose();
 
     // Left-nullspace projection; H_x only needs projecting for the QR path.
     if (use_qr) {
