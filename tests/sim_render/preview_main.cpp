@@ -20,6 +20,24 @@ int main(int argc, char** argv) {
   calib.distortion_coeffs << -0.05, 0.01, 0.0005, -0.0003;
   vid::sim::Renderer renderer(scene, calib, 2);
   const Eigen::Vector3d c = scene.config().room_center;
+  // Optional: a view of the checkerboard from 1.5 m (as in the checkerboard preset).
+  if (scene.checkerboard_surface() >= 0) {
+    const auto& cb = scene.config().checkerboard;
+    const int axis = scene.checkerboard_surface() / 2;
+    const double sign = scene.checkerboard_surface() % 2 == 1 ? 1.0 : -1.0;
+    Eigen::Vector3d board = Eigen::Vector3d::Zero();
+    board[axis] = sign > 0 ? scene.room_max()[axis] : scene.room_min()[axis];
+    board[axis == 0 ? 1 : 0] = cb.center.x();
+    board.z() = cb.center.y();
+    Eigen::Vector3d p = board;
+    p[axis] -= sign * 1.5;
+    const Eigen::Vector3d zc = (board - p).normalized();
+    const Eigen::Vector3d xc = zc.cross(Eigen::Vector3d::UnitZ()).normalized();
+    Eigen::Isometry3d T_WC = Eigen::Isometry3d::Identity();
+    T_WC.linear() << xc, zc.cross(xc), zc;
+    T_WC.translation() = p + Eigen::Vector3d(0.0, 0.1, 0.05);
+    cv::imwrite(std::string(argv[2]) + "_board.png", renderer.render(T_WC));
+  }
   for (int k = 0; k < 6; ++k) {
     // Camera looks along +z_C; yaw around the room centre, slightly downward.
     const double yaw = k * M_PI / 3.0;

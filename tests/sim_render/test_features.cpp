@@ -123,7 +123,7 @@ TEST_F(FeatureSimTest, CountsLifetimesAndStereo) {
   std::map<std::uint64_t, std::pair<int, int>> span;  // id -> first, last frame seen
   std::map<std::uint64_t, int> frames_seen;
   double sum_cam[2] = {0, 0};
-  int min_cam = 1 << 30;
+  int min_cam = 1 << 30, max_cam = 0;
   std::size_t both = 0, cam0 = 0;
   for (int k = 0; k < kFrames; ++k) {
     int per_cam[2] = {0, 0};
@@ -145,6 +145,7 @@ TEST_F(FeatureSimTest, CountsLifetimesAndStereo) {
     for (int c = 0; c < 2; ++c) {
       sum_cam[c] += per_cam[c];
       min_cam = std::min(min_cam, per_cam[c]);
+      max_cam = std::max(max_cam, per_cam[c]);
     }
   }
   for (int c = 0; c < 2; ++c) {
@@ -153,6 +154,7 @@ TEST_F(FeatureSimTest, CountsLifetimesAndStereo) {
     EXPECT_LT(mean, 175.0) << "cam " << c;
   }
   EXPECT_GT(min_cam, 110);
+  EXPECT_LT(max_cam, 200);  // stereo spawning does not double the count
   // Stable ids: a track is seen in one unbroken run of frames and never comes back.
   double lifetime = 0;
   for (const auto& [id, s] : span) {

@@ -160,7 +160,18 @@ FeatureFrame FeatureSimulator::step(TimeNs t_ns, const Eigen::Isometry3d& T_WI) 
     }
   }
   active_ = std::move(kept);
-  for (std::size_t k = 0; k < nc; ++k) spawn(k, T_WC[k], &taken[k]);
+  for (std::size_t k = 0; k < nc; ++k) {
+    const std::size_t first_new = landmarks_.size();
+    spawn(k, T_WC[k], &taken[k]);
+    // New features that later cameras see count towards their targets too (stereo overlap).
+    for (std::size_t id = first_new; id < landmarks_.size(); ++id) {
+      for (std::size_t j = k + 1; j < nc; ++j) {
+        if (visible(j, T_WC[j], landmarks_[id].p_W, landmarks_[id].normal_W, &uv)) {
+          taken[j].push_back(uv);
+        }
+      }
+    }
+  }
 
   FeatureFrame frame;
   frame.t_ns = t_ns;
