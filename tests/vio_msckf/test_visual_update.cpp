@@ -290,6 +290,43 @@ TEST(VisualUpdate, Chi2GateRejectsOutlierTrack) {
   EXPECT_EQ(build_visual_update({tracks[1]}, s.clones_true, s.extrinsics, P, loose).features_used, 1);
 }
 
+TEST(VisualUpdate, Chi2GateUsesDenseInnovationCovariance) {
+  // Single feature (41 rows, no compression): the gate statistic must be
+  // r^T (H P H^T + sigma^2 I)^-1 r with the returned (H, r) and a dense, correlated P
+  // (extrinsics estimated too). Bracket it with the chi2 multiplier.
+  SceneOptions opt;
+  opt.num_features = 1;
+  opt.pixel_sigma_norm = 1.0 / kFocal;
+  Scene s = make_scene(opt);
+  s.extrinsics[0].cov_index = s.state_dim;
+  s.extrinsics[1].cov_index = s.state_dim + 6;
+  const int n = s.state_dim + 12;
+  std::mt19937 rng(12);
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::MatrixXd B(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) B(i, j) = 2e-3 * g(rng);
+  const Eigen::MatrixXd P = B * B.transpose() + 1e-6 * Eigen::MatrixXd::Identity(n, n);
+  const std::vector<ClonePose> est = perturbed(s, prior(s, 12, 0.1), 14);
+  VisualUpdateParams loose = params_for(1.0);
+  loose.chi2_multiplier = 1e9;
+  const auto sys = build_visual_update(s.tracks, est, s.extrinsics, P, loose);
+  ASSERT_EQ(sys.features_used, 1);
+  const int dof = static_cast<int>(sys.H.rows());
+  ASSERT_EQ(dof, 4 * opt.num_clones - 3);
+  Eigen::MatrixXd S = sys.H * P * sys.H.transpose();
+  S.diagonal().array() += sys.noise_var;
+  const double chi2 = sys.r.dot(S.llt().solve(sys.r));
+  EXPECT_GT(chi2, 1.0);
+  const double ratio = chi2 / chi2_95(dof);
+  VisualUpdateParams above = loose;
+  above.chi2_multiplier = ratio * (1.0 + 1e-6);
+  VisualUpdateParams below = loose;
+  below.chi2_multiplier = ratio * (1.0 - 1e-6);
+  EXPECT_EQ(build_visual_update(s.tracks, est, s.extrinsics, P, above).features_used, 1);
+  EXPECT_EQ(build_visual_update(s.tracks, est, s.extrinsics, P, below).features_rejected_chi2, 1);
+}
+
 TEST(VisualUpdate, Chi2RejectionRateMatchesSignificanceWithCorrectNoise) {
   // State error drawn from P, 1 px noise, filter told 1 px: about 5% of features fail the
   // 95% gate. (At the exact state, S = H P H^T + R would overstate the residual spread.)
