@@ -7,6 +7,7 @@
 #include "io/estimator_params_yaml.h"
 #include "io/kalibr.h"
 #include "io/sensor_yaml.h"
+#include "io/strict_yaml.h"
 
 namespace vid::runner {
 
@@ -39,6 +40,8 @@ RunConfig resolve_run_config(const std::optional<fs::path>& config, const io::Da
     if (fs::exists(estimator_file)) {
       cfg.estimator = io::load_estimator_params(estimator_file);
       cfg.sources["estimator"] = estimator_file.string();
+      // Only an explicit `mode:` pins the mode; the struct default must not override auto-detection.
+      if (io::YamlMap::load_file(estimator_file).has("mode")) cfg.preset_mode = cfg.estimator.mode;
     }
     if (const fs::path f = dir / "frontend.yaml"; fs::exists(f)) {
       cfg.frontend = load_frontend_params(f);
@@ -63,6 +66,15 @@ RunConfig resolve_run_config(const std::optional<fs::path>& config, const io::Da
       cfg.vehicle = io::load_vehicle_yaml(f);
       cfg.sources["vehicle"] = f.string();
     }
+    // A folder that holds none of the preset files is a mistyped path, not "use defaults".
+    bool any = false;
+    for (const char* name : {"estimator.yaml", "frontend.yaml", "imu.yaml", "camchain.yaml", "camchain-imucam.yaml",
+                             "rotor_sensor.yaml", "vehicle.yaml"})
+      any = any || fs::exists(dir / name);
+    if (!any)
+      throw io::ConfigError(config->string() +
+                            ": not a preset (no estimator.yaml, frontend.yaml, imu.yaml, camchain-imucam.yaml, "
+                            "rotor_sensor.yaml or vehicle.yaml)");
   }
 
   // The IMU calibration is the source of truth for IMU noise; the vehicle for gravity.

@@ -118,9 +118,18 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   io::DatasetReader reader(opt.dataset, ro);
   RunConfig cfg = resolve_run_config(opt.config, reader.calibration());
 
-  // Mode: the flag, else dynamics when thrust information exists.
   const bool thrust_data = has_rotor || has_thrust;
-  cfg.estimator.mode = opt.mode.value_or(thrust_data ? PropagationMode::kDynamics : PropagationMode::kImu);
+  // Mode: the flag, else the preset's explicit `mode:`, else dynamics when thrust information exists.
+  std::string mode_source = "flag --mode";
+  if (opt.mode) {
+    cfg.estimator.mode = *opt.mode;
+  } else if (cfg.preset_mode) {
+    cfg.estimator.mode = *cfg.preset_mode;
+    mode_source = cfg.sources.at("estimator");
+  } else {
+    cfg.estimator.mode = thrust_data ? PropagationMode::kDynamics : PropagationMode::kImu;
+    mode_source = thrust_data ? "auto (rotor/thrust data present)" : "auto (no rotor/thrust data)";
+  }
   if (opt.init) cfg.estimator.init_mode = *opt.init;
   const bool dynamics = cfg.estimator.mode == PropagationMode::kDynamics;
   if (dynamics && !thrust_data)
@@ -192,6 +201,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   std::unique_ptr<app::ProgressBar> bar;
   long frames = 0, images_unreadable = 0, images_wrong_size = 0, feature_frames = 0;
   Warner image_warnings;
+  std::vector<double> decode_ms;  // PNG decoding per camera frame (not part of the stage times)
   bool interrupted = false, diverged = false;
 
   while (auto m = reader.next()) {
@@ -216,6 +226,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
       ++frames;
       cv::Mat left, right;
       bool ok = true;
+      const auto t_decode = Clock::now();
       for (const auto& ref : img->images) {
         if (ref.cam_id > 1) continue;
         cv::Mat g = decode_gray8(ref.path);
@@ -232,6 +243,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
         }
         (ref.cam_id == 0 ? left : right) = g;
       }
+      decode_ms.push_back(ms_since(t_decode));
       if (!ok || left.empty()) continue;
       if (tracker->params().stereo == false || cfg.cameras.size() < 2) right = cv::Mat();
       const auto t_track = Clock::now();
@@ -281,6 +293,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   nlohmann::json s;
   s["dataset"] = fs::absolute(opt.dataset).string();
   s["mode"] = to_string(cfg.estimator.mode);
+  s["mode_source"] = mode_source;
   s["init"] = to_string(cfg.estimator.init_mode);
   s["features"] = source == FeatureSource::kImages ? "images" : "feat0";
   s["status"] = interrupted ? "interrupted" : (diverged ? "diverged" : to_string(pipeline.status()));
@@ -309,7 +322,8 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   s["data_duration_s"] = data_s;
   s["wall_time_s"] = wall_s;
   s["real_time_factor"] = wall_s > 0.0 ? data_s / wall_s : 0.0;
-  s["timing"] = stage_times.to_json();
+  s["timing"] = stage_times.to_json();  // frontend + estimator stages; excludes image decoding
+  s["timing"]["image_decoding"] = stage_stats(decode_ms);
   s["peak_memory_mib"] = peak_memory_mib();
   s["config"] = describe(cfg);
   s["config_sources"] = cfg.sources;

@@ -28,6 +28,9 @@ struct RunConfig {
   std::optional<ImuNoise> imu;
   std::optional<RotorSensor> rotor;
   std::optional<VehicleParams> vehicle;
+  /// mode the preset's estimator.yaml sets explicitly (`mode:` key); nullopt when it has no
+  /// such key, so vid_run picks the mode from the dataset's streams
+  std::optional<PropagationMode> preset_mode;
   std::map<std::string, std::string> sources;  ///< part -> file (or "defaults")
 };
 
