@@ -92,10 +92,9 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   if (!state.with_force()) throw std::logic_error("accel_update needs the F_ext state (dynamics mode)");
   UpdateResult res;
   Eigen::MatrixXd& P = state.P();
-  const int n = state.dim();
   // H = [.. I(b_a) .. I(F) ..] => P H^T = P[:, ba] + P[:, F]; S = H P H^T + R.
-  Eigen::Matrix<double, Eigen::Dynamic, 3> PHt =
-      P.middleCols<3>(imu_idx::kBa) + P.middleCols<3>(imu_idx::kF);
+  thread_local Eigen::MatrixXd PHt;
+  PHt = P.middleCols<3>(imu_idx::kBa) + P.middleCols<3>(imu_idx::kF);
   Eigen::Matrix3d S = PHt.middleRows<3>(imu_idx::kBa) + PHt.middleRows<3>(imu_idx::kF);
   S = 0.5 * (S + S.transpose()).eval();
   S.diagonal().array() += noise_var;
@@ -105,12 +104,15 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   res.chi2 = r.dot(llt.solve(r));
   res.threshold = chi2_threshold;
   if (chi2_threshold > 0.0 && !(res.chi2 <= chi2_threshold)) return res;
-  const Eigen::Matrix<double, Eigen::Dynamic, 3> K = llt.solve(PHt.transpose()).transpose();
-  state.apply_correction(K * r);
-  // P -= K PHt^T, keeping exact symmetry by updating the lower triangle and mirroring.
-  P.triangularView<Eigen::Lower>() -= K * PHt.transpose();
-  P.triangularView<Eigen::StrictlyUpper>() = P.transpose().triangularView<Eigen::StrictlyUpper>();
-  (void)n;
+  // With S = L L^T and W = PHt L^-T: K r = W (L^-1 r), K S K^T = W W^T (rank-3, symmetric).
+  thread_local Eigen::MatrixXd W;
+  W = llt.matrixL().solve(PHt.transpose()).transpose();
+  const Eigen::Vector3d Linv_r = llt.matrixL().solve(r);
+  state.apply_correction(W * Linv_r);
+  P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);
+  // mirror the lower triangle (column-major: copy rows of the lower part into columns)
+  const int n = static_cast<int>(P.rows());
+  for (int j = 0; j < n; ++j) P.row(j).tail(n - j - 1) = P.col(j).tail(n - j - 1).transpose();
   res.applied = true;
   return res;
 }

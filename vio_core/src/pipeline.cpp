@@ -277,12 +277,15 @@ void Pipeline::process_frame(const FeatureFrame& f) {
     vp.sigma_norm = p.pixel_noise_px / (0.5 * (c0.intrinsics[0] + c0.intrinsics[1]));
     vp.chi2_multiplier = p.chi2_multiplier;
     vp.min_observations = p.min_track_length;
+    vp.triangulation.max_condition = p.triangulation_max_condition;
     const msckf::VisualLinearSystem sys =
         msckf::build_visual_update(tracks, clones, extrinsics, state_.P(), vp);
     tm.features_used += sys.features_used;
     tm.features_rejected += sys.features_rejected_chi2 + sys.features_rejected_triangulation;
     counters_.features_used += sys.features_used;
     counters_.features_rejected += sys.features_rejected_chi2 + sys.features_rejected_triangulation;
+    counters_.features_rejected_chi2 += sys.features_rejected_chi2;
+    counters_.features_too_short += sys.features_too_short;
     if (sys.H.rows() > 0) {
       const Eigen::MatrixXd R =
           Eigen::MatrixXd::Identity(sys.H.rows(), sys.H.rows()) * sys.noise_var;

@@ -82,7 +82,9 @@ struct PipelineCounters {
   long frames_skipped = 0;      ///< frames before init or behind the filter time
   long visual_updates = 0;
   long features_used = 0;
-  long features_rejected = 0;
+  long features_rejected = 0;   ///< chi2 + triangulation
+  long features_rejected_chi2 = 0;
+  long features_too_short = 0;
   long observations_without_norm = 0;
 };
 

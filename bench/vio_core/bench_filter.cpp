@@ -1,0 +1,97 @@
+// Micro-benchmarks of the estimator core: accelerometer update, one propagation step and the
+// EKF part of a visual update, on a full window (11 clones, dynamics mode: 18 + 66 states).
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+#include "vio_core/ekf_update.h"
+#include "vio_core/initializer.h"
+#include "vio_core/propagation.h"
+#include "vio_core/so3.h"
+
+namespace {
+using namespace vid;
+
+FilterState full_window(PropagationMode mode, int clones) {
+  EstimatorParams p;
+  p.mode = mode;
+  FilterState s(mode == PropagationMode::kDynamics);
+  ImuState x;
+  x.q_WI = so3::quat_exp(Eigen::Vector3d(0.1, -0.2, 0.3));
+  s.initialize(0, x, initial_covariance(p, x.q_WI));
+  ImuInterval u;
+  u.dt = 0.0025;
+  u.gyro0 = u.gyro1 = Eigen::Vector3d(0.1, 0.2, -0.1);
+  u.drive0 = u.drive1 = Eigen::Vector3d(0.0, 0.0, 9.81);
+  for (int c = 0; c < clones; ++c) {
+    for (int k = 0; k < 13; ++k) propagate(s, u, p);
+    s.augment_clone();
+  }
+  return s;
+}
+
+void BM_AccelUpdate(benchmark::State& st) {
+  FilterState s = full_window(PropagationMode::kDynamics, static_cast<int>(st.range(0)));
+  const Eigen::Vector3d Tm(0, 0, 9.81);
+  Eigen::Vector3d a = Tm;
+  for (auto _ : st) {
+    a.x() = -a.x() + 1e-3;  // alternate the reading so the state keeps moving
+    const UpdateResult r = accel_update(s, a, Tm, 4.0, 0.0);
+    benchmark::DoNotOptimize(r);
+  }
+  st.counters["dim"] = s.dim();
+}
+BENCHMARK(BM_AccelUpdate)->Arg(11)->Arg(0);
+
+void BM_PropagationStep(benchmark::State& st) {
+  const PropagationMode mode = st.range(0) ? PropagationMode::kDynamics : PropagationMode::kImu;
+  EstimatorParams p;
+  p.mode = mode;
+  FilterState s = full_window(mode, 11);
+  ImuInterval u;
+  u.dt = 0.0025;
+  u.gyro0 = Eigen::Vector3d(0.1, 0.2, -0.1);
+  u.gyro1 = Eigen::Vector3d(0.12, 0.18, -0.1);
+  u.drive0 = Eigen::Vector3d(0.1, 0.0, 9.81);
+  u.drive1 = Eigen::Vector3d(0.1, 0.05, 9.8);
+  for (auto _ : st) {
+    propagate(s, u, p);
+    benchmark::ClobberMemory();
+  }
+  st.counters["dim"] = s.dim();
+}
+BENCHMARK(BM_PropagationStep)->Arg(1)->Arg(0);
+
+// EKF half of the MSCKF update: QR-compressed H with as many rows as touched clone columns
+// (66) and 40 features x (2*11 - 3) = 760 rows before compression (compression is not here).
+void BM_VisualEkfUpdate(benchmark::State& st) {
+  FilterState s0 = full_window(PropagationMode::kDynamics, 11);
+  const int m = 66;
+  std::mt19937 rng(1);
+  std::normal_distribution<double> nd(0, 1);
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(m, s0.dim());
+  for (int i = 0; i < m; ++i)
+    for (int j = 18 + i; j < s0.dim(); ++j) H(i, j) = nd(rng);  // upper-triangular like R of QR
+  Eigen::VectorXd r(m);
+  for (int i = 0; i < m; ++i) r(i) = 1e-3 * nd(rng);
+  const Eigen::MatrixXd R = Eigen::MatrixXd::Identity(m, m) * 1e-5;
+  for (auto _ : st) {
+    st.PauseTiming();
+    FilterState s = s0;
+    st.ResumeTiming();
+    const UpdateResult res = ekf_update(s, H, r, R);
+    benchmark::DoNotOptimize(res);
+  }
+}
+BENCHMARK(BM_VisualEkfUpdate)->Unit(benchmark::kMicrosecond);
+
+void BM_CloneAugmentMarginalize(benchmark::State& st) {
+  FilterState s = full_window(PropagationMode::kDynamics, 11);
+  for (auto _ : st) {
+    s.augment_clone();
+    s.marginalize_oldest_clone();
+  }
+}
+BENCHMARK(BM_CloneAugmentMarginalize);
+
+}  // namespace
