@@ -89,6 +89,7 @@ SimMetrics run_on_dataset(const std::filesystem::path& folder, PropagationMode m
   }
   // Diagnosis only: VIO_CORE_FORCE_RW overrides the F_ext random walk.
   if (const char* rw = std::getenv("VIO_CORE_FORCE_RW")) p.force_random_walk = std::atof(rw);
+  if (const char* mf = std::getenv("VIO_CORE_MAX_FEATURES")) p.max_features_per_update = std::atoi(mf);
   pc.cameras = cal.cameras;
   std::vector<std::unique_ptr<CameraModel>> models;
   for (const CameraCalib& c : cal.cameras) models.push_back(CameraModel::create(c));
