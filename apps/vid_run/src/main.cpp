@@ -1,5 +1,6 @@
 /// vid_run: offline estimation on a dataset folder (DESIGN §5, §6).
 #include <CLI/CLI.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
@@ -14,6 +15,9 @@ extern "C" void on_sigint(int) { g_stop.store(true); }
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Logs (progress info, warnings) go to stderr: stdout stays free for piping.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("vid_run"));
+  spdlog::set_pattern("%^vid_run: %l:%$ %v");
   return vid::app::run_main("vid_run", [&]() -> int {
     CLI::App app{"vid_run: estimate pose and external force on a dataset folder (EuRoC/ASL + extensions)"};
     vid::runner::RunOptions opt;

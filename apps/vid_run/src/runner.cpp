@@ -352,6 +352,10 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   spdlog::info("{}: {} estimates, {} frames, {:.1f} s of data in {:.1f} s ({:.1f}x real time), status {}",
                opt.out_dir.string(), estimates, frames + feature_frames, data_s, wall_s,
                wall_s > 0 ? data_s / wall_s : 0.0, s["status"].get<std::string>());
+  if (pipeline.status() == FilterStatus::kWaitingForInit)
+    spdlog::warn("the estimator never initialized ({}); for a hovering start with a noisy IMU raise init_accel_std_max "
+                 "(see config/sim/estimator.yaml) or use --init groundtruth",
+                 pipeline.status_message());
   if (s.contains("ate_posyaw_m")) spdlog::info("ATE (posyaw) {:.4f} m", s["ate_posyaw_m"].get<double>());
   if (s.contains("force_rmse_world_mps2"))
     spdlog::info("force RMSE (world) {:.4f} m/s^2", s["force_rmse_world_mps2"].get<double>());

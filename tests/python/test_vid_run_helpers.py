@@ -1,0 +1,98 @@
+"""Helpers of the vid_run end-to-end tests (no tests here): build paths, simulated sequences, runs.
+
+Sequences are generated once per test session (vid_sim with fixed seeds) into a temporary
+folder; runs write into their own folders. Nothing here decides a test's outcome.
+"""
+import atexit
+import json
+import os
+import tempfile
+import pathlib
+import shutil
+import subprocess
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+VENV_BIN = REPO / ".venv" / "bin"
+
+
+def build_dir() -> pathlib.Path:
+    return pathlib.Path(os.environ.get("VID_BUILD_DIR", REPO / "build"))
+
+
+def program(name: str) -> pathlib.Path:
+    path = build_dir() / "bin" / name
+    if not path.exists():
+        raise FileNotFoundError(f"{path} not built: run scripts/build.sh first")
+    return path
+
+
+def simulate(out: pathlib.Path, scenario: str, duration_s: float, seed: int, features_only: bool) -> pathlib.Path:
+    cmd = [str(program("vid_sim")), "--scenario", str(REPO / "config" / "sim" / scenario), "--out", str(out),
+           "--seed", str(seed), "--duration", str(duration_s), "--quiet"]
+    if features_only:
+        cmd.append("--features-only")
+    subprocess.run(cmd, check=True, capture_output=True, text=True, timeout=600)
+    return out
+
+
+_CACHE_DIR = None
+_CACHE = {}
+
+
+def simulate_cached(scenario: str, duration_s: float, seed: int, features_only: bool) -> pathlib.Path:
+    """simulate() once per (scenario, duration, seed, features_only) per process, shared by the
+    test modules (a rendered sequence costs ~20 s of CPU)."""
+    global _CACHE_DIR
+    key = (scenario, duration_s, seed, features_only)
+    if key not in _CACHE:
+        name = f"{pathlib.Path(scenario).stem}_{duration_s:g}s_seed{seed}{'_feat' if features_only else ''}"
+        keep = os.environ.get("VID_TEST_SEQ_CACHE")  # developer option: keep sequences between sessions
+        if keep:
+            out = pathlib.Path(keep) / name
+            if not (out / "mav0" / "imu0" / "data.csv").exists():
+                shutil.rmtree(out, ignore_errors=True)
+                simulate(out, scenario, duration_s, seed, features_only)
+            _CACHE[key] = out
+        else:
+            if _CACHE_DIR is None:
+                _CACHE_DIR = pathlib.Path(tempfile.mkdtemp(prefix="vid_run_seq_"))
+                atexit.register(shutil.rmtree, _CACHE_DIR, True)
+            _CACHE[key] = simulate(_CACHE_DIR / name, scenario, duration_s, seed, features_only)
+    return _CACHE[key]
+
+
+def vid_run(dataset: pathlib.Path, out: pathlib.Path, *args: str, timeout: float = 300) -> subprocess.CompletedProcess:
+    cmd = [str(program("vid_run")), "--dataset", str(dataset), "--out", str(out), "--quiet", *args]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env={**os.environ, "CI": "true"})
+
+
+def summary(out: pathlib.Path) -> dict:
+    return json.loads((out / "summary.json").read_text())
+
+
+def tum_rows(path: pathlib.Path) -> list:
+    return [line.split() for line in path.read_text().splitlines() if line and not line.startswith("#")]
+
+
+def first_timestamp_ns(dataset: pathlib.Path) -> int:
+    """First time stamp over all data.csv streams (vid_run's --start/--end origin)."""
+    first = None
+    for csv in (dataset / "mav0").glob("*/data.csv"):
+        for line in csv.read_text().splitlines():
+            if line and not line.startswith("#"):
+                t = int(line.split(",")[0])
+                first = t if first is None else min(first, t)
+                break
+    return first
+
+
+def link_copy(src: pathlib.Path, dst: pathlib.Path) -> pathlib.Path:
+    """Copy a dataset folder with every file as a symlink (cheap); callers replace the files
+    they corrupt with real ones (unlink first: writing through a symlink would change src)."""
+    shutil.copytree(src, dst, copy_function=os.symlink)
+    return dst
+
+
+def replace_file(path: pathlib.Path, data: bytes) -> None:
+    path.unlink()
+    path.write_bytes(data)
