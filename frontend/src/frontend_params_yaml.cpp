@@ -25,6 +25,11 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
   p.lk_epsilon = m.get_double("lk_epsilon", p.lk_epsilon);
   p.lk_min_eigen = m.get_double("lk_min_eigen", p.lk_min_eigen);
   p.fb_check_px = m.get_double("fb_check_px", p.fb_check_px);
+  p.template_refinement = m.get_bool("template_refinement", p.template_refinement);
+  p.template_half = m.get_int("template_half", p.template_half);
+  p.template_iterations = m.get_int("template_iterations", p.template_iterations);
+  p.template_min_zncc = m.get_double("template_min_zncc", p.template_min_zncc);
+  p.template_max_shift_px = m.get_double("template_max_shift_px", p.template_max_shift_px);
 
   const std::string rs = m.get_string("ransac", "");
   if (rs == "none") p.ransac = RansacMode::kNone;
@@ -37,6 +42,7 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
 
   p.stereo = m.get_bool("stereo", p.stereo);
   p.stereo_epipolar_px = m.get_double("stereo_epipolar_px", p.stereo_epipolar_px);
+  p.stereo_fb_check_px = m.get_double("stereo_fb_check_px", p.stereo_fb_check_px);
   p.stereo_max_disparity_px = m.get_double("stereo_max_disparity_px", p.stereo_max_disparity_px);
   p.stereo_min_depth_m = m.get_double("stereo_min_depth_m", p.stereo_min_depth_m);
   p.gyro_prediction = m.get_bool("gyro_prediction", p.gyro_prediction);
@@ -52,6 +58,8 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
   positive("lk_max_iterations", p.lk_max_iterations);
   positive("ransac_threshold_px", p.ransac_threshold_px);
   if (p.lk_window % 2 == 0) m.fail("lk_window", "must be odd");
+  if (p.template_half < 2 || p.template_half > 20) m.fail("template_half", "must be in [2, 20]");
+  positive("template_iterations", p.template_iterations);
   if (p.lk_levels < 0 || p.lk_levels > 8) m.fail("lk_levels", "must be in [0, 8]");
   if (p.min_distance_px < 0.0) m.fail("min_distance_px", "must be >= 0");
   if (p.ransac_confidence <= 0.0 || p.ransac_confidence >= 1.0) {

@@ -11,7 +11,9 @@
 namespace vid {
 
 KltTracker::KltTracker(const FrontendParams& params, const std::vector<CameraCalib>& cams)
-    : p_(params), detector_(params) {
+    : p_(params),
+      detector_(params),
+      refiner_(params.template_half, params.template_iterations, 0.005) {
   if (cams.empty()) throw std::invalid_argument("KltTracker: no camera calibration given");
   for (const auto& c : cams) cams_.push_back(CameraModel::create(c));
   if (cams_.size() >= 2 && p_.stereo) {
@@ -54,13 +56,32 @@ cv::Mat KltTracker::prepare(const cv::Mat& img, const CameraModel& cam) const {
   return gray;
 }
 
-std::vector<cv::Mat> KltTracker::pyramid(const cv::Mat& img) const {
-  std::vector<cv::Mat> pyr;
-  cv::buildOpticalFlowPyramid(img, pyr, cv::Size(p_.lk_window, p_.lk_window), p_.lk_levels, true);
-  return pyr;
+void KltTracker::pyramid(const cv::Mat& img, bool derivatives, std::vector<cv::Mat>* pyr) const {
+  // Reuses the vector's buffers frame after frame (same sizes), so no per-frame allocation.
+  cv::buildOpticalFlowPyramid(img, *pyr, cv::Size(p_.lk_window, p_.lk_window), p_.lk_levels,
+                              derivatives);
 }
 
-void KltTracker::track_temporal(const std::vector<cv::Mat>& pyr, TimeNs t_ns) {
+void KltTracker::refine_to_birth(const cv::Mat& img, std::vector<cv::Point2f>* cur,
+                                 std::vector<std::uint8_t>* ok) {
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    Track& t = tracks_[i];
+    if (!(*ok)[i] || !t.birth) continue;
+    PatchWarp w = t.warp;
+    const RefineResult r = refiner_.refine(img, *t.birth, (*cur)[i], &w);
+    if (!r.ok || r.zncc < p_.template_min_zncc ||
+        cv::norm(r.uv - (*cur)[i]) > p_.template_max_shift_px) {
+      (*ok)[i] = 0;
+      ++stats_.template_rejected;
+      continue;
+    }
+    (*cur)[i] = r.uv;
+    t.warp = w;
+  }
+}
+
+void KltTracker::track_temporal(const cv::Mat& img, const std::vector<cv::Mat>& pyr,
+                                TimeNs t_ns) {
   const CameraModel& cam = *cams_[0];
   const std::size_t n = tracks_.size();
   stats_.previous = static_cast<int>(n);
@@ -107,6 +128,7 @@ void KltTracker::track_temporal(const std::vector<cv::Mat>& pyr, TimeNs t_ns) {
       if (!st_b[i] || cv::norm(back[i] - prev[i]) > p_.fb_check_px) st[i] = 0;
     }
   }
+  if (p_.template_refinement) refine_to_birth(img, &cur, &st);
 
   std::vector<std::size_t> idx;
   std::vector<Eigen::Vector2d> x0, x1;
@@ -160,6 +182,10 @@ void KltTracker::detect_new(const cv::Mat& img) {
   for (const auto& p : detector_.detect(img, existing, wanted)) {
     Track tr;
     if (!cam.undistort({p.x, p.y}, &tr.xy0)) continue;
+    if (p_.template_refinement) {
+      tr.birth = refiner_.make_template(img, p);
+      if (!tr.birth) continue;  // at the border or an edge: not worth a track
+    }
     tr.id = next_id_++;
     tr.uv0 = p;
     tracks_.push_back(tr);
@@ -213,21 +239,39 @@ FeatureFrame KltTracker::make_output(TimeNs t_ns) const {
 }
 
 FeatureFrame KltTracker::process(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right) {
-  const auto t_start = std::chrono::steady_clock::now();
+  using Clock = std::chrono::steady_clock;
+  const auto ms_since = [](Clock::time_point a) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - a).count();
+  };
+  const auto t_start = Clock::now();
   stats_ = TrackerStats{};
+  const bool stereo = stereo_ && !right.empty();
+  // Left pyramid with derivatives: it is the source image of the stereo match now and of the
+  // temporal match next frame. The right one needs derivatives only for the backward check.
   const cv::Mat img0 = prepare(left, *cams_[0]);
-  std::vector<cv::Mat> pyr0 = pyramid(img0);
-
-  track_temporal(pyr0, t_ns);
-  detect_new(img0);
-  if (stereo_ && !right.empty()) {
-    const cv::Mat img1 = prepare(right, *cams_[1]);
-    match_stereo(pyr0, pyramid(img1));
-  } else {
-    for (auto& t : tracks_) t.has_right = false;
+  pyramid(img0, true, &cur_pyr_);
+  cv::Mat img1;
+  if (stereo) {
+    img1 = prepare(right, *cams_[1]);
+    pyramid(img1, p_.stereo_fb_check_px > 0.0, &right_pyr_);
   }
+  stats_.ms_pyramid = ms_since(t_start);
 
-  prev_pyr_ = std::move(pyr0);
+  auto t = Clock::now();
+  track_temporal(img0, cur_pyr_, t_ns);
+  stats_.ms_temporal = ms_since(t);
+  t = Clock::now();
+  detect_new(img0);
+  stats_.ms_detect = ms_since(t);
+  t = Clock::now();
+  if (stereo) {
+    match_stereo(cur_pyr_, right_pyr_);
+  } else {
+    for (auto& tr : tracks_) tr.has_right = false;
+  }
+  stats_.ms_stereo = ms_since(t);
+
+  std::swap(prev_pyr_, cur_pyr_);
   prev_t_ = t_ns;
   const double shift_ns = cams_[0]->calib().timeshift_cam_imu_s * 1e9;
   gyro_.prune_before(t_ns + static_cast<TimeNs>(std::llround(shift_ns)) - 100'000'000);

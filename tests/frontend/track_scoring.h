@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -34,6 +35,16 @@ struct TrackScore {
   double mean_ms = 0;
   /// Errors by track age: 1, 2-5, 6-20, 21-60, > 60 frames (for the report).
   std::array<std::vector<double>, 5> err_by_age;
+  /// Drifters (> 3 px): how many were born on a depth discontinuity (the depth seen 4 px away
+  /// differs by > 10%), and a few examples for the report.
+  std::size_t drifted = 0, drifted_at_discontinuity = 0, born_at_discontinuity = 0;
+  struct Drifter {
+    std::uint64_t id;
+    double u, v, depth;
+    int age_at_3px;
+    bool discontinuity;
+  };
+  std::vector<Drifter> drifter_examples;
 };
 
 /// Ground-truth pose interpolation (linear position, slerp orientation).
@@ -89,6 +100,9 @@ inline TrackScore score_sequence(const std::filesystem::path& dataset, const Fro
     Eigen::Vector3d p_W;
     int length = 0;
     double max_err = 0;
+    double u = 0, v = 0, depth = 0;
+    int age_at_3px = -1;
+    bool discontinuity = false;
   };
   std::map<std::uint64_t, Born> born;
   std::vector<double> errs, disp_errs;
@@ -132,13 +146,27 @@ inline TrackScore score_sequence(const std::filesystem::path& dataset, const Fro
       if (t.age == 0) {
         const auto hit = scene.raycast(T_WC0.translation(), dir_W);
         b.ok = hit.has_value();
-        if (b.ok) b.p_W = *hit;
+        if (b.ok) {
+          b.p_W = *hit;
+          b.u = t.uv0.x;
+          b.v = t.uv0.y;
+          b.depth = (T_C0W * *hit).z();
+          // Depth 4 px left/right/up/down: a > 10% jump means the patch straddles two surfaces.
+          for (const auto& d : {Eigen::Vector2d(4, 0), Eigen::Vector2d(-4, 0),
+                                Eigen::Vector2d(0, 4), Eigen::Vector2d(0, -4)}) {
+            Eigen::Vector3d bearing;
+            if (!cam0.unproject(Eigen::Vector2d(t.uv0.x, t.uv0.y) + d, &bearing)) continue;
+            const auto h2 = scene.raycast(T_WC0.translation(), T_WC0.linear() * bearing);
+            if (!h2 || std::abs((T_C0W * *h2).z() - b.depth) > 0.1 * b.depth) b.discontinuity = true;
+          }
+        }
       } else if (b.ok) {
         Eigen::Vector2d uv_true;
         if (cam0.project(T_C0W * b.p_W, &uv_true)) {
           const double e = (uv_true - Eigen::Vector2d(t.uv0.x, t.uv0.y)).norm();
           errs.push_back(e);
           b.max_err = std::max(b.max_err, e);
+          if (e > 3.0 && b.age_at_3px < 0) b.age_at_3px = t.age;
           const int bin = t.age < 2 ? 0 : t.age < 6 ? 1 : t.age < 21 ? 2 : t.age < 61 ? 3 : 4;
           s.err_by_age[static_cast<std::size_t>(bin)].push_back(e);
         }
@@ -164,8 +192,16 @@ inline TrackScore score_sequence(const std::filesystem::path& dataset, const Fro
     len += b.length;
     if (!b.ok) continue;
     ++scored;
-    drifted += b.max_err > 3.0 ? 1 : 0;
+    s.born_at_discontinuity += b.discontinuity ? 1 : 0;
+    if (b.max_err > 3.0) {
+      ++drifted;
+      s.drifted_at_discontinuity += b.discontinuity ? 1 : 0;
+      if (s.drifter_examples.size() < 8) {
+        s.drifter_examples.push_back({id, b.u, b.v, b.depth, b.age_at_3px, b.discontinuity});
+      }
+    }
   }
+  s.drifted = drifted;
   s.tracks = scored;
   s.drift_fraction = scored ? static_cast<double>(drifted) / static_cast<double>(scored) : 1.0;
   s.mean_track_length = born.empty() ? 0 : len / static_cast<double>(born.size());
@@ -196,6 +232,13 @@ inline void print_score(const char* name, const TrackScore& s) {
     std::printf(" [%s] %.3f (n=%zu)", bins[i], median_of(s.err_by_age[i]), s.err_by_age[i].size());
   }
   std::printf("\n");
+  std::printf("  drifters: %zu (%zu born on a depth discontinuity; %zu of %zu tracks born on one)\n",
+              s.drifted, s.drifted_at_discontinuity, s.born_at_discontinuity, s.tracks);
+  for (const auto& d : s.drifter_examples) {
+    std::printf("    id %llu born at (%.0f, %.0f) depth %.2f m, > 3 px at age %d%s\n",
+                static_cast<unsigned long long>(d.id), d.u, d.v, d.depth, d.age_at_3px,
+                d.discontinuity ? ", discontinuity" : "");
+  }
 }
 
 }  // namespace vid::test

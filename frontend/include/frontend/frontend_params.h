@@ -39,6 +39,13 @@ struct FrontendParams {
   double lk_min_eigen = 1e-4;   ///< cv::calcOpticalFlowPyrLK minEigThreshold
   double fb_check_px = 0.5;     ///< forward-backward check threshold [px]; <= 0 disables
 
+  // --- refinement against the birth patch (removes frame-to-frame drift) ---
+  bool template_refinement = true;  ///< align each track's birth patch (affine IC-LK) every frame
+  int template_half = 7;            ///< birth patch half size [px] (15x15)
+  int template_iterations = 6;      ///< Gauss-Newton iterations
+  double template_min_zncc = 0.9;   ///< tracks whose aligned patch correlates less are dropped
+  double template_max_shift_px = 2.0;  ///< drop if the alignment moves the KLT result further
+
   // --- temporal outlier rejection ---
   RansacMode ransac = RansacMode::kFundamental;
   double ransac_threshold_px = 1.0;  ///< epipolar error threshold (converted with the focal length)
@@ -48,6 +55,7 @@ struct FrontendParams {
   // --- stereo ---
   bool stereo = true;                ///< match left features into the right image when present
   double stereo_epipolar_px = 1.5;   ///< max distance to the epipolar line [px]
+  double stereo_fb_check_px = 0.5;   ///< right -> left backward check [px]; <= 0 disables
   double stereo_max_disparity_px = 200.0;  ///< larger disparities (very near points) are rejected
   double stereo_min_depth_m = 0.1;   ///< triangulated depth must exceed this
 

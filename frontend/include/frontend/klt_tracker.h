@@ -16,6 +16,7 @@
 #include "frontend/frontend_params.h"
 #include "frontend/grid_detector.h"
 #include "frontend/gyro_integrator.h"
+#include "frontend/patch_refiner.h"
 #include "frontend/stereo_matcher.h"
 #include "vio_core/calibration.h"
 #include "vio_core/measurements.h"
@@ -32,17 +33,24 @@ struct Track {
   cv::Point2f uv1;                  ///< right pixel (valid if has_right)
   Eigen::Vector2d xy1 = Eigen::Vector2d::Zero();
   cv::Point2f right_offset;         ///< uv1 - uv0 at the last stereo match (next guess)
+  std::shared_ptr<const PatchTemplate> birth;  ///< birth patch (null: refinement off)
+  PatchWarp warp;                   ///< current affine shape of the birth patch
 };
 
 /// @brief What happened in the last processed frame.
 struct TrackerStats {
   int previous = 0;        ///< tracks entering the frame
-  int klt_tracked = 0;     ///< survived KLT + forward-backward + border
+  int klt_tracked = 0;     ///< survived KLT + forward-backward + border + template check
+  int template_rejected = 0;  ///< dropped by the birth-template check (low ZNCC, no fit)
   int ransac_inliers = 0;  ///< survived temporal RANSAC (= tracks kept)
   int detected = 0;        ///< new features
   int stereo_matched = 0;  ///< tracks with a right observation
   bool gyro_used = false;  ///< prediction came from the gyro
   double ms_total = 0.0;   ///< wall time of process() [ms]
+  double ms_pyramid = 0.0;   ///< pre-processing and pyramids (both images)
+  double ms_temporal = 0.0;  ///< temporal KLT, template refinement and RANSAC
+  double ms_detect = 0.0;    ///< detection of new features
+  double ms_stereo = 0.0;    ///< stereo matching
 };
 
 /// @brief The KLT frontend for one camera (mono) or a camera pair (stereo: cams[0] left,
@@ -70,8 +78,11 @@ class KltTracker {
 
  private:
   cv::Mat prepare(const cv::Mat& img, const CameraModel& cam) const;
-  std::vector<cv::Mat> pyramid(const cv::Mat& img) const;
-  void track_temporal(const std::vector<cv::Mat>& pyr, TimeNs t_ns);
+  void pyramid(const cv::Mat& img, bool derivatives, std::vector<cv::Mat>* pyr) const;
+  void track_temporal(const cv::Mat& img, const std::vector<cv::Mat>& pyr, TimeNs t_ns);
+  /// Aligns the birth patch of each candidate; clears ok[i] for tracks that fail.
+  void refine_to_birth(const cv::Mat& img, std::vector<cv::Point2f>* cur,
+                       std::vector<std::uint8_t>* ok);
   void detect_new(const cv::Mat& img);
   void match_stereo(const std::vector<cv::Mat>& pyr0, const std::vector<cv::Mat>& pyr1);
   FeatureFrame make_output(TimeNs t_ns) const;
@@ -82,7 +93,8 @@ class KltTracker {
   std::unique_ptr<StereoMatcher> stereo_;
   GyroIntegrator gyro_;
   cv::Ptr<cv::CLAHE> clahe_;
-  std::vector<cv::Mat> prev_pyr_;
+  PatchRefiner refiner_;
+  std::vector<cv::Mat> prev_pyr_, cur_pyr_, right_pyr_;
   std::optional<TimeNs> prev_t_;
   std::vector<Track> tracks_;
   std::uint64_t next_id_ = 1;

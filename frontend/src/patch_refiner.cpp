@@ -1,0 +1,190 @@
+#include "frontend/patch_refiner.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <cmath>
+#include <algorithm>
+#include <cstdint>
+
+namespace vid {
+namespace {
+
+/// Bilinear samples of a (2 h + 1)^2 grid mapped by A around c; false if any leaves the image.
+bool sample_grid(const cv::Mat& img, int h, const Eigen::Matrix2f& A, cv::Point2f c, float* out) {
+  const int n = 2 * h + 1;
+  const float max_x = static_cast<float>(img.cols - 1), max_y = static_cast<float>(img.rows - 1);
+  // Corners of the grid decide whether every sample is inside (the map is affine).
+  for (int sy = -1; sy <= 1; sy += 2) {
+    for (int sx = -1; sx <= 1; sx += 2) {
+      const float x = A(0, 0) * sx * h + A(0, 1) * sy * h + c.x;
+      const float y = A(1, 0) * sx * h + A(1, 1) * sy * h + c.y;
+      if (!(x >= 0.f && y >= 0.f && x < max_x && y < max_y)) return false;
+    }
+  }
+  const std::size_t step = img.step[0];
+  const std::uint8_t* base = img.ptr<std::uint8_t>(0);
+  for (int r = 0; r < n; ++r) {
+    const float oy = static_cast<float>(r - h);
+    float x = A(0, 0) * static_cast<float>(-h) + A(0, 1) * oy + c.x;
+    float y = A(1, 0) * static_cast<float>(-h) + A(1, 1) * oy + c.y;
+    for (int k = 0; k < n; ++k, x += A(0, 0), y += A(1, 0)) {
+      const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+      const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
+      const std::uint8_t* p = base + static_cast<std::size_t>(y0) * step + x0;
+      const float top = p[0] + fx * (static_cast<float>(p[1]) - p[0]);
+      const float bot = p[step] + fx * (static_cast<float>(p[step + 1]) - p[step]);
+      *out++ = top + fy * (bot - top);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+PatchRefiner::PatchRefiner(int half, int max_iterations, double epsilon_px, double shape_prior)
+    : half_(half),
+      max_iterations_(max_iterations),
+      epsilon_px_(static_cast<float>(epsilon_px)),
+      shape_prior_(shape_prior) {}
+
+bool PatchRefiner::sample(const cv::Mat& img, const Eigen::Matrix2f& A, cv::Point2f c,
+                          float* buf) const {
+  return sample_grid(img, half_, A, c, buf);
+}
+
+std::shared_ptr<const PatchTemplate> PatchRefiner::make_template(const cv::Mat& img,
+                                                                 cv::Point2f uv) const {
+  const int n = 2 * half_ + 1, m = n + 2;
+  std::vector<float> big(static_cast<std::size_t>(m * m));
+  // One-pixel apron for the central-difference gradients.
+  if (!sample_grid(img, half_ + 1, Eigen::Matrix2f::Identity(), uv, big.data())) return nullptr;
+  auto t = std::make_shared<PatchTemplate>();
+  t->half = half_;
+  const std::size_t N = static_cast<std::size_t>(n * n);
+  t->value.resize(N);
+  t->gx.resize(N);
+  t->gy.resize(N);
+  double mean = 0.0;
+  Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+  for (int r = 0; r < n; ++r) {
+    for (int k = 0; k < n; ++k) {
+      const auto at = [&](int rr, int kk) { return big[static_cast<std::size_t>(rr * m + kk)]; };
+      const std::size_t i = static_cast<std::size_t>(r * n + k);
+      t->value[i] = at(r + 1, k + 1);
+      t->gx[i] = 0.5f * (at(r + 1, k + 2) - at(r + 1, k));
+      t->gy[i] = 0.5f * (at(r + 2, k + 1) - at(r, k + 1));
+      mean += t->value[i];
+      const double x = k - half_, y = r - half_, gx = t->gx[i], gy = t->gy[i];
+      Eigen::Matrix<double, 6, 1> sd;
+      sd << gx * x, gy * x, gx * y, gy * y, gx, gy;
+      H.selfadjointView<Eigen::Upper>().rankUpdate(sd);
+    }
+  }
+  H = H.selfadjointView<Eigen::Upper>();
+  mean /= static_cast<double>(N);
+  double norm2 = 0.0;
+  for (auto& v : t->value) {
+    v -= static_cast<float>(mean);
+    norm2 += static_cast<double>(v) * v;
+  }
+  t->norm = static_cast<float>(std::sqrt(norm2));
+  // Translation must be well observed (a corner, not an edge).
+  const Eigen::Matrix2d Ht = H.bottomRightCorner<2, 2>();
+  const double tr = Ht.trace();
+  if (!(tr > 0.0) || Ht.determinant() < 1e-4 * tr * tr || t->norm < 1.0f) return nullptr;
+  // Prior on the shape change within one frame (see refine()).
+  const double prior = std::max(1e-9, shape_prior_) * H.topLeftCorner<4, 4>().trace() / 4.0;
+  for (int d = 0; d < 4; ++d) H(d, d) += prior;
+  t->prior = static_cast<float>(prior);
+  t->H_inv = H.inverse().cast<float>();
+  return t;
+}
+
+RefineResult PatchRefiner::refine(const cv::Mat& img, const PatchTemplate& t, cv::Point2f uv,
+                                  PatchWarp* warp) const {
+  RefineResult res;
+  const int n = 2 * half_ + 1;
+  const std::size_t N = static_cast<std::size_t>(n * n);
+  float buf[64 * 64];
+  if (N > sizeof(buf) / sizeof(float) || t.half != half_) return res;
+  // Shape prior: with M = A_start^-1 A the shape change so far in this frame and q its
+  // parameters, an IC step dp changes q to about q - dp; minimising the data term plus
+  // prior |q - dp|^2 gives (H + prior) dp = b + prior q.
+  const Eigen::Matrix2f A_start_inv = warp->A.inverse();
+  Eigen::Matrix2f A = warp->A;
+  cv::Point2f c = uv;
+  for (int it = 0; it < max_iterations_; ++it) {
+    if (!sample(img, A, c, buf)) return res;
+    float mean = 0.f;
+    for (std::size_t i = 0; i < N; ++i) mean += buf[i];
+    mean /= static_cast<float>(N);
+    float norm2 = 0.f;
+    for (std::size_t i = 0; i < N; ++i) norm2 += (buf[i] - mean) * (buf[i] - mean);
+    if (norm2 < 1e-6f) return res;
+    const float gain = t.norm / std::sqrt(norm2);
+    Eigen::Matrix<float, 6, 1> b = Eigen::Matrix<float, 6, 1>::Zero();
+    for (int r = 0; r < n; ++r) {
+      const float y = static_cast<float>(r - half_);
+      for (int k = 0; k < n; ++k) {
+        const std::size_t i = static_cast<std::size_t>(r * n + k);
+        const float x = static_cast<float>(k - half_);
+        const float e = (buf[i] - mean) * gain - t.value[i];
+        const float ex = e * t.gx[i], ey = e * t.gy[i];
+        b[0] += ex * x;
+        b[1] += ey * x;
+        b[2] += ex * y;
+        b[3] += ey * y;
+        b[4] += ex;
+        b[5] += ey;
+      }
+    }
+    const Eigen::Matrix2f M = A_start_inv * A;
+    b[0] += t.prior * (M(0, 0) - 1.f);
+    b[1] += t.prior * M(1, 0);
+    b[2] += t.prior * M(0, 1);
+    b[3] += t.prior * (M(1, 1) - 1.f);
+    const Eigen::Matrix<float, 6, 1> dp = t.H_inv * b;
+    // W <- W o W(dp)^-1: A' = A (I + D)^-1, c' = c - A' d.
+    Eigen::Matrix2f D;
+    D << 1.f + dp[0], dp[2], dp[1], 1.f + dp[3];
+    const float det = D.determinant();
+    if (!(std::abs(det) > 1e-3f)) return res;
+    A = A * D.inverse();
+    const Eigen::Vector2f step = A * Eigen::Vector2f(dp[4], dp[5]);
+    c.x -= step.x();
+    c.y -= step.y();
+    res.iterations = it + 1;
+    if (!std::isfinite(c.x) || !std::isfinite(c.y)) return res;
+    if (step.norm() < epsilon_px_) break;
+  }
+  // A sane shape: no flips, no collapse or blow-up beyond a factor 2 in area.
+  const float detA = A.determinant();
+  if (!(detA > 0.25f && detA < 4.f)) return res;
+  res.zncc = zncc(img, t, c, PatchWarp{A});
+  if (res.zncc < -0.5f) return res;
+  res.ok = true;
+  res.uv = c;
+  warp->A = A;
+  return res;
+}
+
+float PatchRefiner::zncc(const cv::Mat& img, const PatchTemplate& t, cv::Point2f uv,
+                         const PatchWarp& warp) const {
+  const int n = 2 * half_ + 1;
+  const std::size_t N = static_cast<std::size_t>(n * n);
+  float buf[64 * 64];
+  if (N > sizeof(buf) / sizeof(float) || !sample(img, warp.A, uv, buf)) return -1.f;
+  float mean = 0.f;
+  for (std::size_t i = 0; i < N; ++i) mean += buf[i];
+  mean /= static_cast<float>(N);
+  float dot = 0.f, norm2 = 0.f;
+  for (std::size_t i = 0; i < N; ++i) {
+    const float v = buf[i] - mean;
+    dot += v * t.value[i];
+    norm2 += v * v;
+  }
+  if (norm2 < 1e-6f || t.norm <= 0.f) return 0.f;
+  return dot / (std::sqrt(norm2) * t.norm);
+}
+
+}  // namespace vid
