@@ -40,6 +40,7 @@ const DoubleField kDoubles[] = {
     VID_FIELD(accel_chi2_multiplier),
     VID_FIELD(pixel_noise_px),
     VID_FIELD(chi2_multiplier),
+    VID_FIELD(triangulation_max_condition),
     VID_FIELD(init_window_s),
     VID_FIELD(init_accel_std_max),
     VID_FIELD(init_gyro_std_max),
