@@ -76,6 +76,11 @@ def test_summary_has_stage_times_and_run_facts(dyn_images):
     assert s["timing"]["image_decoding"]["count"] == s["counts"]["camera_frames"]
     assert s["timing"]["total"]["median_ms"] >= s["timing"]["tracking"]["median_ms"]
     assert s["real_time_factor"] > 0.0
+    cpu = s["cpu"]
+    assert cpu["tracking_cpu"]["count"] == s["timing"]["tracking"]["count"]
+    assert 0.0 < cpu["image_decoding_cpu_s"] < cpu["process_cpu_s"]
+    assert cpu["real_time_factor_cpu"] == pytest.approx(s["data_duration_s"] / cpu["process_cpu_s"])
+    assert cpu["mean_cpu_ms_per_frame_excluding_decoding"] > 0.0
     assert s["peak_memory_mib"] > 1.0
     assert abs(s["data_duration_s"] - SEQ_S) < 0.5
     assert "thrust_noise_density" in s["config"]

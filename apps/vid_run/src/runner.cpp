@@ -202,6 +202,9 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   long frames = 0, images_unreadable = 0, images_wrong_size = 0, feature_frames = 0;
   Warner image_warnings;
   std::vector<double> decode_ms;  // PNG decoding per camera frame (not part of the stage times)
+  std::vector<double> tracking_cpu_ms;  // thread CPU time of the tracker per frame
+  double decode_cpu_ms = 0.0;
+  const double cpu_start_s = process_cpu_s();
   bool interrupted = false, diverged = false;
 
   while (auto m = reader.next()) {
@@ -227,6 +230,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
       cv::Mat left, right;
       bool ok = true;
       const auto t_decode = Clock::now();
+      const double cpu_decode = thread_cpu_ms();
       for (const auto& ref : img->images) {
         if (ref.cam_id > 1) continue;
         cv::Mat g = decode_gray8(ref.path);
@@ -244,11 +248,14 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
         (ref.cam_id == 0 ? left : right) = g;
       }
       decode_ms.push_back(ms_since(t_decode));
+      decode_cpu_ms += thread_cpu_ms() - cpu_decode;
       if (!ok || left.empty()) continue;
       if (tracker->params().stereo == false || cfg.cameras.size() < 2) right = cv::Mat();
       const auto t_track = Clock::now();
+      const double cpu_track = thread_cpu_ms();
       FeatureFrame ff = tracker->process(img->t_ns, left, right);
       tracking_ms[img->t_ns] = ms_since(t_track);
+      tracking_cpu_ms.push_back(thread_cpu_ms() - cpu_track);
       pipeline.push(Measurement{std::move(ff)});
     } else if (auto* ff = std::get_if<FeatureFrame>(&*m)) {
       ++feature_frames;
@@ -325,6 +332,16 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   s["timing"] = stage_times.to_json();  // frontend + estimator stages; excludes image decoding
   s["timing"]["image_decoding"] = stage_stats(decode_ms);
   s["peak_memory_mib"] = peak_memory_mib();
+  // CPU-time view of the same run (robust to other processes on a shared machine): the whole
+  // run, its real-time factor on CPU time, tracking per frame, and everything but PNG decoding
+  // per processed frame (mean; the estimator runs inside the reader loop, one thread).
+  const double cpu_s = process_cpu_s() - cpu_start_s;
+  s["cpu"]["process_cpu_s"] = cpu_s;
+  s["cpu"]["real_time_factor_cpu"] = cpu_s > 0.0 ? data_s / cpu_s : 0.0;
+  s["cpu"]["image_decoding_cpu_s"] = decode_cpu_ms * 1e-3;
+  s["cpu"]["tracking_cpu"] = stage_stats(tracking_cpu_ms);
+  s["cpu"]["mean_cpu_ms_per_frame_excluding_decoding"] =
+      c.frames > 0 ? (cpu_s * 1e3 - decode_cpu_ms) / static_cast<double>(c.frames) : 0.0;
   s["config"] = describe(cfg);
   s["config_sources"] = cfg.sources;
 

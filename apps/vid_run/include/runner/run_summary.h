@@ -31,6 +31,13 @@ class StageTimes {
 /// @brief Peak resident memory of this process [MiB].
 double peak_memory_mib();
 
+/// @brief CPU time (user + system) of this process so far [s].
+double process_cpu_s();
+
+/// @brief CPU time of the calling thread so far [ms]. Unlike wall-clock stage times it does not
+/// grow when other processes compete for the cores (the machine the timings come from is shared).
+double thread_cpu_ms();
+
 /// @brief Write @p summary to DIR/summary.json (pretty, flushed).
 void write_summary(const std::filesystem::path& out_dir, const nlohmann::json& summary);
 
