@@ -2,10 +2,15 @@
 // dynamics mode: ATE (position + yaw alignment) <= 0.03 m and world force RMSE <= 0.05 m/s^2;
 // imu-mode ATE on the same data is reported beside it.
 //
-// The force-RMSE tests are DISABLED: measured 0.33 / 0.35 m/s^2 (target 0.05). The
+// The force-RMSE tests are DISABLED: measured 0.32 / 0.34 m/s^2 (target 0.05). The
 // simulator's accelerometer noise density is 0.1 m/s^2/sqrt(Hz) (2 m/s^2 per 400 Hz sample),
 // which makes the accelerometer alone worth about sqrt(q_F * 0.1) per axis; reaching the
 // target needs the dynamics/vision path to carry most of the force information (open work).
+// Diagnosis (vio_core_diag_sim): vision sees R_WI (T_m + F_ext) and the accelerometer sees
+// F_ext + b_a, so {roll/pitch, b_a, F_ext} is weakly observable (only through yaw changes) and
+// a force-model mismatch leaks into it: on NOISE-FREE 25 s vid17_like data with
+// force_random_walk 0.1 the tilt drifts to 28 mrad and b_a to 0.26 m/s^2 (b_g stays exact),
+// and the world force error is ~g * tilt. A smoother force process model is the next step.
 // Run them with --gtest_also_run_disabled_tests.
 #include <gtest/gtest.h>
 
