@@ -101,6 +101,7 @@ void run(benchmark::State& state, bool stereo) {
   std::size_t k = 0;
   TimeNs t = 0;
   double features = 0, matched = 0;
+  double pyr = 0, temporal = 0, detect = 0, stereo_ms = 0;
   for (auto _ : state) {
     // Ping-pong through the frames: 0..n-1, n-2..1, 0..
     const std::size_t period = 2 * n - 2;
@@ -115,12 +116,23 @@ void run(benchmark::State& state, bool stereo) {
     ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     features += static_cast<double>(tracker.tracks().size());
     matched += tracker.stats().stereo_matched;
+    pyr += tracker.stats().ms_pyramid;
+    temporal += tracker.stats().ms_temporal;
+    detect += tracker.stats().ms_detect;
+    stereo_ms += tracker.stats().ms_stereo;
     t += 33'333'333;
   }
   std::sort(ms.begin(), ms.end());
   state.counters["median_ms"] = ms[ms.size() / 2];
   state.counters["p99_ms"] = ms[std::min(ms.size() - 1, ms.size() * 99 / 100)];
-  state.counters["features"] = features / static_cast<double>(ms.size());
+  const double n_it = static_cast<double>(ms.size());
+  state.counters["features"] = features / n_it;
+  // Mean stage times [ms]: pre-processing + pyramids, temporal (KLT, template, RANSAC),
+  // detection, stereo.
+  state.counters["pyr_ms"] = pyr / n_it;
+  state.counters["temporal_ms"] = temporal / n_it;
+  state.counters["detect_ms"] = detect / n_it;
+  if (stereo) state.counters["stereo_ms"] = stereo_ms / n_it;
   if (stereo) state.counters["stereo"] = matched / static_cast<double>(ms.size());
   state.SetLabel(f.source);
 }

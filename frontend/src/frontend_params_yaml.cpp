@@ -10,6 +10,8 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
   p.fast_threshold_min = m.get_int("fast_threshold_min", p.fast_threshold_min);
   p.min_distance_px = m.get_double("min_distance_px", p.min_distance_px);
   p.border_px = m.get_int("border_px", p.border_px);
+  p.detect_min_missing = m.get_int("detect_min_missing", p.detect_min_missing);
+  p.detect_cell_retry_frames = m.get_int("detect_cell_retry_frames", p.detect_cell_retry_frames);
 
   const std::string eq = m.get_string("equalization", "");
   if (eq == "none") p.equalization = Equalization::kNone;
@@ -28,6 +30,7 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
   p.template_refinement = m.get_bool("template_refinement", p.template_refinement);
   p.template_half = m.get_int("template_half", p.template_half);
   p.template_iterations = m.get_int("template_iterations", p.template_iterations);
+  p.template_epsilon_px = m.get_double("template_epsilon_px", p.template_epsilon_px);
   p.template_min_zncc = m.get_double("template_min_zncc", p.template_min_zncc);
   p.template_max_shift_px = m.get_double("template_max_shift_px", p.template_max_shift_px);
 
@@ -42,6 +45,7 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
 
   p.stereo = m.get_bool("stereo", p.stereo);
   p.stereo_epipolar_px = m.get_double("stereo_epipolar_px", p.stereo_epipolar_px);
+  p.stereo_lk_levels = m.get_int("stereo_lk_levels", p.stereo_lk_levels);
   p.stereo_fb_check_px = m.get_double("stereo_fb_check_px", p.stereo_fb_check_px);
   p.stereo_max_disparity_px = m.get_double("stereo_max_disparity_px", p.stereo_max_disparity_px);
   p.stereo_min_depth_m = m.get_double("stereo_min_depth_m", p.stereo_min_depth_m);
@@ -61,6 +65,11 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
   if (p.template_half < 2 || p.template_half > 20) m.fail("template_half", "must be in [2, 20]");
   positive("template_iterations", p.template_iterations);
   if (p.lk_levels < 0 || p.lk_levels > 8) m.fail("lk_levels", "must be in [0, 8]");
+  if (p.stereo_lk_levels < 0 || p.stereo_lk_levels > 8) {
+    m.fail("stereo_lk_levels", "must be in [0, 8]");
+  }
+  if (p.detect_min_missing < 1) m.fail("detect_min_missing", "must be >= 1");
+  if (p.detect_cell_retry_frames < 0) m.fail("detect_cell_retry_frames", "must be >= 0");
   if (p.min_distance_px < 0.0) m.fail("min_distance_px", "must be >= 0");
   if (p.ransac_confidence <= 0.0 || p.ransac_confidence >= 1.0) {
     m.fail("ransac_confidence", "must be in (0, 1)");

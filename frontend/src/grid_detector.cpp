@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <opencv2/features2d.hpp>
 
 namespace vid {
@@ -56,7 +57,7 @@ class DistanceMask {
 
 std::vector<cv::Point2f> GridDetector::detect(const cv::Mat& image,
                                               const std::vector<cv::Point2f>& existing,
-                                              int wanted) const {
+                                              int wanted) {
   std::vector<cv::Point2f> out;
   if (wanted <= 0 || image.empty()) return out;
   const int W = image.cols, H = image.rows;
@@ -94,8 +95,15 @@ std::vector<cv::Point2f> GridDetector::detect(const cv::Mat& image,
     }
   };
   std::vector<std::vector<cv::KeyPoint>> buckets(static_cast<std::size_t>(n_cells));
+  if (idle_.size() != static_cast<std::size_t>(n_cells)) idle_.assign(static_cast<std::size_t>(n_cells), 0);
+  std::vector<std::uint8_t> searched(static_cast<std::size_t>(n_cells), 0);
   for (int c = 0; c < n_cells; ++c) {
     if (count[static_cast<std::size_t>(c)] >= quota) continue;
+    if (idle_[static_cast<std::size_t>(c)] > 0) {
+      --idle_[static_cast<std::size_t>(c)];
+      continue;
+    }
+    searched[static_cast<std::size_t>(c)] = 1;
     const int x0 = static_cast<int>(std::floor((c % gc) * cw)) - 3;
     const int y0 = static_cast<int>(std::floor((c / gc) * ch)) - 3;
     const cv::Rect cell(x0, y0, static_cast<int>(std::ceil(cw)) + 7, static_cast<int>(std::ceil(ch)) + 7);
@@ -124,6 +132,15 @@ std::vector<cv::Point2f> GridDetector::detect(const cv::Mat& image,
       mask.add(k.pt);
       out.push_back(k.pt);
       ++count[static_cast<std::size_t>(c)];
+    }
+  }
+  // Searched cells that gained nothing rest for a few calls.
+  {
+    std::vector<int> gained(static_cast<std::size_t>(n_cells), 0);
+    for (const auto& p : out) ++gained[static_cast<std::size_t>(cell_of(p))];
+    for (int c = 0; c < n_cells; ++c) {
+      const auto k = static_cast<std::size_t>(c);
+      if (searched[k] && gained[k] == 0) idle_[k] = p_.detect_cell_retry_frames;
     }
   }
   if (static_cast<int>(out.size()) > wanted) {

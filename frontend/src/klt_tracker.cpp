@@ -1,5 +1,6 @@
 #include "frontend/klt_tracker.h"
 
+#include <algorithm>
 #include <chrono>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -13,7 +14,7 @@ namespace vid {
 KltTracker::KltTracker(const FrontendParams& params, const std::vector<CameraCalib>& cams)
     : p_(params),
       detector_(params),
-      refiner_(params.template_half, params.template_iterations, 0.005) {
+      refiner_(params.template_half, params.template_iterations, params.template_epsilon_px) {
   if (cams.empty()) throw std::invalid_argument("KltTracker: no camera calibration given");
   for (const auto& c : cams) cams_.push_back(CameraModel::create(c));
   if (cams_.size() >= 2 && p_.stereo) {
@@ -58,7 +59,8 @@ cv::Mat KltTracker::prepare(const cv::Mat& img, const CameraModel& cam) const {
 
 void KltTracker::pyramid(const cv::Mat& img, bool derivatives, std::vector<cv::Mat>* pyr) const {
   // Reuses the vector's buffers frame after frame (same sizes), so no per-frame allocation.
-  cv::buildOpticalFlowPyramid(img, *pyr, cv::Size(p_.lk_window, p_.lk_window), p_.lk_levels,
+  const int levels = stereo_ ? std::max(p_.lk_levels, p_.stereo_lk_levels) : p_.lk_levels;
+  cv::buildOpticalFlowPyramid(img, *pyr, cv::Size(p_.lk_window, p_.lk_window), levels,
                               derivatives);
 }
 
@@ -69,6 +71,7 @@ void KltTracker::refine_to_birth(const cv::Mat& img, std::vector<cv::Point2f>* c
     if (!(*ok)[i] || !t.birth) continue;
     PatchWarp w = t.warp;
     const RefineResult r = refiner_.refine(img, *t.birth, (*cur)[i], &w);
+    stats_.template_iterations += r.iterations;
     if (!r.ok || r.zncc < p_.template_min_zncc ||
         cv::norm(r.uv - (*cur)[i]) > p_.template_max_shift_px) {
       (*ok)[i] = 0;
@@ -174,7 +177,9 @@ void KltTracker::track_temporal(const cv::Mat& img, const std::vector<cv::Mat>& 
 
 void KltTracker::detect_new(const cv::Mat& img) {
   const int wanted = p_.num_features - static_cast<int>(tracks_.size());
-  if (wanted <= 0) return;
+  // Small deficits wait until they add up: each detection pass runs FAST in every cell below
+  // its quota, which costs about as much for one feature as for ten.
+  if (wanted <= 0 || wanted < std::min(p_.detect_min_missing, p_.num_features)) return;
   std::vector<cv::Point2f> existing;
   existing.reserve(tracks_.size());
   for (const auto& t : tracks_) existing.push_back(t.uv0);
@@ -193,7 +198,8 @@ void KltTracker::detect_new(const cv::Mat& img) {
   }
 }
 
-void KltTracker::match_stereo(const std::vector<cv::Mat>& pyr0, const std::vector<cv::Mat>& pyr1) {
+void KltTracker::match_stereo(const std::vector<cv::Mat>& pyr0, const std::vector<cv::Mat>& pyr1,
+                              const cv::Mat& right_img) {
   const std::size_t n = tracks_.size();
   std::vector<cv::Point2f> uv0(n), guess(n);
   std::vector<Eigen::Vector2d> xy0(n);
@@ -212,6 +218,22 @@ void KltTracker::match_stereo(const std::vector<cv::Mat>& pyr0, const std::vecto
   for (std::size_t i = 0; i < n; ++i) {
     Track& t = tracks_[i];
     t.has_right = ok[i] != 0;
+    // The epipolar check cannot see a match that slid along the epipolar line: align the
+    // birth patch (in its current shape) on the right image too; it must correlate, stay
+    // close to the KLT match and on the epipolar line.
+    if (t.has_right && p_.template_refinement && t.birth) {
+      PatchWarp w = t.warp;
+      const RefineResult r = refiner_.refine(right_img, *t.birth, uv1[i], &w);
+      Eigen::Vector2d x1;
+      t.has_right = r.ok && r.zncc >= p_.template_min_zncc &&
+                    cv::norm(r.uv - uv1[i]) <= p_.template_max_shift_px &&
+                    cams_[1]->undistort({r.uv.x, r.uv.y}, &x1) &&
+                    stereo_->epipolar_distance_px(t.xy0, x1) <= p_.stereo_epipolar_px;
+      if (t.has_right) {
+        uv1[i] = r.uv;
+        xy1[i] = x1;
+      }
+    }
     if (t.has_right) {
       t.uv1 = uv1[i];
       t.right_offset = t.uv1 - t.uv0;
@@ -265,7 +287,7 @@ FeatureFrame KltTracker::process(TimeNs t_ns, const cv::Mat& left, const cv::Mat
   stats_.ms_detect = ms_since(t);
   t = Clock::now();
   if (stereo) {
-    match_stereo(cur_pyr_, right_pyr_);
+    match_stereo(cur_pyr_, right_pyr_, img1);
   } else {
     for (auto& tr : tracks_) tr.has_right = false;
   }

@@ -68,13 +68,13 @@ void StereoMatcher::match(const std::vector<cv::Mat>& pyr0, const std::vector<cv
                               p_.lk_max_iterations, p_.lk_epsilon);
   std::vector<std::uint8_t> st;
   std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(pyr0, pyr1, uv0, pts1, st, err, win, p_.lk_levels, crit,
+  cv::calcOpticalFlowPyrLK(pyr0, pyr1, uv0, pts1, st, err, win, p_.stereo_lk_levels, crit,
                            cv::OPTFLOW_USE_INITIAL_FLOW, p_.lk_min_eigen);
   std::vector<std::uint8_t> st_back(n, 1);
   if (p_.stereo_fb_check_px > 0.0) {
     std::vector<cv::Point2f> back = uv0;
     std::vector<float> err_b;
-    cv::calcOpticalFlowPyrLK(pyr1, pyr0, pts1, back, st_back, err_b, win, p_.lk_levels, crit,
+    cv::calcOpticalFlowPyrLK(pyr1, pyr0, pts1, back, st_back, err_b, win, p_.stereo_lk_levels, crit,
                              cv::OPTFLOW_USE_INITIAL_FLOW, p_.lk_min_eigen);
     for (std::size_t i = 0; i < n; ++i) {
       if (st_back[i] && cv::norm(back[i] - uv0[i]) > p_.stereo_fb_check_px) st_back[i] = 0;

@@ -31,6 +31,7 @@ struct TrackScore {
   double mean_track_length = 0;   ///< frames per finished-or-live track
   double median_disp_err_px = 0;  ///< stereo: right observation vs true right projection
   double stereo_fraction = 0;     ///< right matches / left tracks
+  double disp_outliers = 0;       ///< fraction of right observations > 1 px from the truth
   double kept_fraction = 0;       ///< sum kept / sum previous, frame to frame
   double mean_ms = 0;
   /// Errors by track age: 1, 2-5, 6-20, 21-60, > 60 frames (for the report).
@@ -213,6 +214,11 @@ inline TrackScore score_sequence(const std::filesystem::path& dataset, const Fro
     s.p90_err_px = errs[errs.size() * 9 / 10];
   }
   s.median_disp_err_px = median_of(disp_errs);
+  if (!disp_errs.empty()) {
+    s.disp_outliers = static_cast<double>(std::count_if(disp_errs.begin(), disp_errs.end(),
+                                                        [](double e) { return e > 1.0; })) /
+                      static_cast<double>(disp_errs.size());
+  }
   s.stereo_fraction = feat > 0 ? n_right / feat : 0;
   s.kept_fraction = prev > 0 ? kept / prev : 0;
   return s;
@@ -221,10 +227,12 @@ inline TrackScore score_sequence(const std::filesystem::path& dataset, const Fro
 inline void print_score(const char* name, const TrackScore& s) {
   std::printf(
       "[%s] frames %zu, features/frame %.1f, median err %.3f px (p90 %.3f), tracks %zu, "
-      "drift>3px %.2f%%, mean length %.1f frames, stereo %.1f%%, median disparity err %.3f px, "
+      "drift>3px %.2f%%, mean length %.1f frames, stereo %.1f%%, median disparity err %.3f px "
+      "(> 1 px: %.2f%%), "
       "kept frame-to-frame %.1f%%, %.2f ms/frame\n",
       name, s.frames, s.mean_features, s.median_err_px, s.p90_err_px, s.tracks,
       100 * s.drift_fraction, s.mean_track_length, 100 * s.stereo_fraction, s.median_disp_err_px,
+      100 * s.disp_outliers,
       100 * s.kept_fraction, s.mean_ms);
   const char* bins[] = {"1", "2-5", "6-20", "21-60", ">60"};
   std::printf("  median error by track age:");

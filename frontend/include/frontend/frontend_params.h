@@ -25,6 +25,8 @@ struct FrontendParams {
   int fast_threshold_min = 7;   ///< retry threshold for cells with no corner at fast_threshold
   double min_distance_px = 12;  ///< minimum distance between features [px]
   int border_px = 8;            ///< features closer to the image edge are dropped [px]
+  int detect_cell_retry_frames = 4;  ///< a cell searched in vain is skipped this many frames
+  int detect_min_missing = 8;   ///< detect only when at least this many features are missing
 
   // --- pre-processing ---
   Equalization equalization = Equalization::kNone;
@@ -32,17 +34,19 @@ struct FrontendParams {
   int clahe_tile = 8;           ///< CLAHE tiles per side
 
   // --- pyramidal Lucas-Kanade ---
-  int lk_levels = 3;            ///< pyramid levels above the base image
-  int lk_window = 21;           ///< window side [px]
+  int lk_levels = 2;            ///< pyramid levels above the base image
+  int lk_window = 15;           ///< window side [px]
   int lk_max_iterations = 30;
   double lk_epsilon = 0.01;     ///< stop when the update is below this [px]
   double lk_min_eigen = 1e-4;   ///< cv::calcOpticalFlowPyrLK minEigThreshold
-  double fb_check_px = 0.5;     ///< forward-backward check threshold [px]; <= 0 disables
+  double fb_check_px = 0.0;     ///< forward-backward check [px]; <= 0 disables (the birth-template
+                                ///< check below is stricter and cheaper)
 
   // --- refinement against the birth patch (removes frame-to-frame drift) ---
   bool template_refinement = true;  ///< align each track's birth patch (affine IC-LK) every frame
   int template_half = 7;            ///< birth patch half size [px] (15x15)
-  int template_iterations = 6;      ///< Gauss-Newton iterations
+  int template_iterations = 6;      ///< Gauss-Newton iterations (at most)
+  double template_epsilon_px = 0.05;  ///< stop after a step moving the centre less [px]
   double template_min_zncc = 0.9;   ///< tracks whose aligned patch correlates less are dropped
   double template_max_shift_px = 2.0;  ///< drop if the alignment moves the KLT result further
 
@@ -55,7 +59,10 @@ struct FrontendParams {
   // --- stereo ---
   bool stereo = true;                ///< match left features into the right image when present
   double stereo_epipolar_px = 1.5;   ///< max distance to the epipolar line [px]
-  double stereo_fb_check_px = 0.5;   ///< right -> left backward check [px]; <= 0 disables
+  int stereo_lk_levels = 3;          ///< pyramid levels for left -> right KLT (new features start
+                                     ///< at the infinity guess, up to tens of px away)
+  double stereo_fb_check_px = 0.0;   ///< right -> left backward check [px]; <= 0 disables (off:
+                                     ///< the birth patch is checked on the right image instead)
   double stereo_max_disparity_px = 200.0;  ///< larger disparities (very near points) are rejected
   double stereo_min_depth_m = 0.1;   ///< triangulated depth must exceed this
 

@@ -18,12 +18,14 @@ class GridDetector {
   /// @brief New corners (at most `wanted`) at least min_distance_px from `existing` and from
   /// each other, at most a per-cell quota in each grid cell (existing features count toward
   /// the quota); strongest FAST responses first. Cells left empty at fast_threshold are
-  /// retried at fast_threshold_min.
+  /// retried at fast_threshold_min. A cell searched without result is skipped by the next
+  /// detect_cell_retry_frames calls (texture-less regions are not searched every frame).
   std::vector<cv::Point2f> detect(const cv::Mat& image, const std::vector<cv::Point2f>& existing,
-                                  int wanted) const;
+                                  int wanted);
 
  private:
   FrontendParams p_;
+  std::vector<int> idle_;  ///< per cell: calls left before it is searched again
 };
 
 }  // namespace vid

@@ -42,6 +42,7 @@ struct TrackerStats {
   int previous = 0;        ///< tracks entering the frame
   int klt_tracked = 0;     ///< survived KLT + forward-backward + border + template check
   int template_rejected = 0;  ///< dropped by the birth-template check (low ZNCC, no fit)
+  int template_iterations = 0;  ///< Gauss-Newton iterations of all template alignments
   int ransac_inliers = 0;  ///< survived temporal RANSAC (= tracks kept)
   int detected = 0;        ///< new features
   int stereo_matched = 0;  ///< tracks with a right observation
@@ -84,7 +85,8 @@ class KltTracker {
   void refine_to_birth(const cv::Mat& img, std::vector<cv::Point2f>* cur,
                        std::vector<std::uint8_t>* ok);
   void detect_new(const cv::Mat& img);
-  void match_stereo(const std::vector<cv::Mat>& pyr0, const std::vector<cv::Mat>& pyr1);
+  void match_stereo(const std::vector<cv::Mat>& pyr0, const std::vector<cv::Mat>& pyr1,
+                    const cv::Mat& right_img);
   FeatureFrame make_output(TimeNs t_ns) const;
 
   FrontendParams p_;

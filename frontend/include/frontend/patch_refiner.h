@@ -75,6 +75,7 @@ class PatchRefiner {
   int max_iterations_;
   float epsilon_px_;
   double shape_prior_;
+  std::vector<float> xs_, ys_;  ///< template offsets of each patch pixel
 };
 
 }  // namespace vid
