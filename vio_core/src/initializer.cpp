@@ -64,11 +64,19 @@ std::optional<InitResult> StaticInitializer::add(TimeNs t_ns, const Eigen::Vecto
     w_var += (s.w - w_mean).squaredNorm() / n;
   }
   const double g = params_.gravity;
-  if (std::sqrt(a_var) > params_.init_accel_std_max) {
+  // Stillness is judged on the variance in excess of the sensors' own white noise: with
+  // noisy IMUs (e.g. 0.1 m/s^2/sqrt(Hz) at 400 Hz is 2 m/s^2 per sample) the raw spread of
+  // a still IMU is far above any fixed motion threshold. The allowance is the expected noise
+  // variance (3 axes) plus three standard deviations of its sample estimate.
+  const auto allowed_var = [n](double density, double rate_hz, double motion_std) {
+    const double noise_var = 3.0 * density * density * rate_hz;
+    return noise_var * (1.0 + 3.0 * std::sqrt(2.0 / (3.0 * n))) + motion_std * motion_std;
+  };
+  if (a_var > allowed_var(params_.accel_noise_density, params_.imu_rate_hz, params_.init_accel_std_max)) {
     reason_ = "accelerometer not still";
     return std::nullopt;
   }
-  if (std::sqrt(w_var) > params_.init_gyro_std_max) {
+  if (w_var > allowed_var(params_.gyro_noise_density, params_.imu_rate_hz, params_.init_gyro_std_max)) {
     reason_ = "gyro not still";
     return std::nullopt;
   }

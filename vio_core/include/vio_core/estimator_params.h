@@ -72,8 +72,8 @@ struct EstimatorParams {
   // --- initialization ---
   InitMode init_mode = InitMode::kStatic;
   double init_window_s = 0.5;            ///< averaging window for static/hover init
-  double init_accel_std_max = 0.3;       ///< accel std over the window above this -> moving
-  double init_gyro_std_max = 0.05;       ///< gyro std over the window [rad/s]
+  double init_accel_std_max = 0.3;       ///< accel std beyond the white noise above this -> moving
+  double init_gyro_std_max = 0.05;       ///< gyro std beyond the white noise [rad/s]
   double init_gravity_tolerance = 0.5;   ///< | |a_mean| - g | must stay below [m/s^2]
   double init_freefall_thrust_ratio = 0.3;  ///< T/m below ratio*g with |a| small -> free fall
   double init_sigma_roll_pitch = 0.02;   ///< [rad]
