@@ -202,6 +202,7 @@ void KltTracker::match_stereo(const std::vector<cv::Mat>& pyr0, const std::vecto
                               const cv::Mat& right_img) {
   const std::size_t n = tracks_.size();
   std::vector<cv::Point2f> uv0(n), guess(n);
+  std::vector<std::uint8_t> close(n, 0);
   std::vector<Eigen::Vector2d> xy0(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Track& t = tracks_[i];
@@ -209,11 +210,12 @@ void KltTracker::match_stereo(const std::vector<cv::Mat>& pyr0, const std::vecto
     xy0[i] = t.xy0;
     // Last frame's disparity is the best guess; new or unmatched tracks start at infinity.
     guess[i] = t.has_right ? t.uv0 + t.right_offset : stereo_->infinity_guess(t.xy0);
+    close[i] = t.has_right ? 1 : 0;
   }
   std::vector<cv::Point2f> uv1;
   std::vector<Eigen::Vector2d> xy1;
   std::vector<std::uint8_t> ok;
-  stereo_->match(pyr0, pyr1, uv0, xy0, guess, &uv1, &xy1, &ok);
+  stereo_->match(pyr0, pyr1, uv0, xy0, guess, &close, &uv1, &xy1, &ok);
   stats_.stereo_matched = 0;
   for (std::size_t i = 0; i < n; ++i) {
     Track& t = tracks_[i];

@@ -1,5 +1,6 @@
 #include "frontend/stereo_matcher.h"
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/video/tracking.hpp>
 
@@ -51,7 +52,9 @@ bool StereoMatcher::triangulate_depths(const Eigen::Vector2d& xy0, const Eigen::
 void StereoMatcher::match(const std::vector<cv::Mat>& pyr0, const std::vector<cv::Mat>& pyr1,
                           const std::vector<cv::Point2f>& uv0,
                           const std::vector<Eigen::Vector2d>& xy0,
-                          const std::vector<cv::Point2f>& guess1, std::vector<cv::Point2f>* uv1,
+                          const std::vector<cv::Point2f>& guess1,
+                          const std::vector<std::uint8_t>* close_guess,
+                          std::vector<cv::Point2f>* uv1,
                           std::vector<Eigen::Vector2d>* xy1, std::vector<std::uint8_t>* ok) const {
   const std::size_t n = uv0.size();
   uv1->assign(n, cv::Point2f());
@@ -66,10 +69,30 @@ void StereoMatcher::match(const std::vector<cv::Mat>& pyr0, const std::vector<cv
   const cv::Size win(p_.lk_window, p_.lk_window);
   const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
                               p_.lk_max_iterations, p_.lk_epsilon);
-  std::vector<std::uint8_t> st;
+  std::vector<std::uint8_t> st(n, 0);
   std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(pyr0, pyr1, uv0, pts1, st, err, win, p_.stereo_lk_levels, crit,
-                           cv::OPTFLOW_USE_INITIAL_FLOW, p_.lk_min_eigen);
+  // Points whose guess is last frame's disparity are within a pixel or two: one pyramid level
+  // suffices. The others (new tracks, at the infinity guess) use stereo_lk_levels.
+  for (const bool near : {true, false}) {
+    std::vector<std::size_t> idx;
+    std::vector<cv::Point2f> a, b;
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool is_near = close_guess != nullptr && (*close_guess)[i] != 0;
+      if (is_near != near) continue;
+      idx.push_back(i);
+      a.push_back(uv0[i]);
+      b.push_back(pts1[i]);
+    }
+    if (idx.empty()) continue;
+    std::vector<std::uint8_t> s;
+    cv::calcOpticalFlowPyrLK(pyr0, pyr1, a, b, s, err, win,
+                             near ? std::min(1, p_.stereo_lk_levels) : p_.stereo_lk_levels, crit,
+                             cv::OPTFLOW_USE_INITIAL_FLOW, p_.lk_min_eigen);
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+      pts1[idx[k]] = b[k];
+      st[idx[k]] = s[k];
+    }
+  }
   std::vector<std::uint8_t> st_back(n, 1);
   if (p_.stereo_fb_check_px > 0.0) {
     std::vector<cv::Point2f> back = uv0;

@@ -23,10 +23,13 @@ class StereoMatcher {
   /// @param pyr0, pyr1  pyramids from cv::buildOpticalFlowPyramid
   /// @param uv0         left pixels; xy0 their undistorted normalized coordinates
   /// @param guess1      initial right pixels (empty: projection of the left ray at infinity)
+  /// @param close_guess optional, 1 where guess1 is known to be within ~2 px (e.g. last
+  ///                    frame's disparity): those points are tracked on one pyramid level only
   /// @param uv1         right pixels (output); ok (output) 1 where the match passed all checks
   void match(const std::vector<cv::Mat>& pyr0, const std::vector<cv::Mat>& pyr1,
              const std::vector<cv::Point2f>& uv0, const std::vector<Eigen::Vector2d>& xy0,
-             const std::vector<cv::Point2f>& guess1, std::vector<cv::Point2f>* uv1,
+             const std::vector<cv::Point2f>& guess1, const std::vector<std::uint8_t>* close_guess,
+             std::vector<cv::Point2f>* uv1,
              std::vector<Eigen::Vector2d>* xy1, std::vector<std::uint8_t>* ok) const;
 
   /// @brief Right pixel of the left ray through xy0 at infinite depth.
