@@ -13,19 +13,11 @@ bash "$ROOT/scripts/build.sh"
 BIN="$BUILD/bin"
 mkdir -p "$OUT"
 
-if [[ ! -x "$BIN/vid_run" ]]; then
-  # Until the estimator program exists, the demo shows what does: simulate and summarise.
-  echo "[demo] simulating $DURATION s of $(basename "$SCENARIO") into $OUT/seq"
-  "$BIN/vid_sim" --scenario "$SCENARIO" --out "$OUT/seq" --duration "$DURATION" --seed 1
-  "$BIN/vid_info" "$OUT/seq"
-  exit 0
-fi
-
 echo "[demo] simulating $DURATION s of $(basename "$SCENARIO") with stereo images into $OUT/seq"
 "$BIN/vid_sim" --scenario "$SCENARIO" --out "$OUT/seq" --duration "$DURATION" --seed 1
 "$BIN/vid_info" "$OUT/seq"
 echo "[demo] estimating (dynamics mode)"
-"$BIN/vid_run" --dataset "$OUT/seq" --out "$OUT/run" --mode dynamics
+"$BIN/vid_run" --dataset "$OUT/seq" --out "$OUT/run" --mode dynamics --config "$ROOT/config/sim"
 echo "[demo] evaluating"
 GT="$OUT/seq/mav0/state_groundtruth_estimate0/data.csv"
 "$ROOT/.venv/bin/vid-eval" traj "$OUT/run/trajectory_tum.txt" "$GT" --align posyaw \
