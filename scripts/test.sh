@@ -11,5 +11,4 @@ ctest --test-dir "$BUILD" -j"${VID_JOBS:-2}" --output-on-failure --timeout 1200
 ctest_rc=$?
 "$ROOT/.venv/bin/python" -m pytest "$ROOT/tests/python" -q -p no:cacheprovider
 pytest_rc=$?
-echo "ctest exit ${ctest_rc}, pytest exit ${pytest_rc}"
 [[ $ctest_rc -eq 0 && $pytest_rc -eq 0 ]]
