@@ -67,6 +67,7 @@ const BoolField kBools[] = {
     VID_FIELD(accel_chi2_gating),
     VID_FIELD(visual_update),
     VID_FIELD(use_stereo),
+    VID_FIELD(msckf_normal_equations),
 };
 #undef VID_FIELD
 

@@ -277,6 +277,7 @@ void Pipeline::process_frame(const FeatureFrame& f) {
     vp.sigma_norm = p.pixel_noise_px / (0.5 * (c0.intrinsics[0] + c0.intrinsics[1]));
     vp.chi2_multiplier = p.chi2_multiplier;
     vp.min_observations = p.min_track_length;
+    vp.compression = p.msckf_normal_equations ? msckf::Compression::kNormalEquations : msckf::Compression::kQr;
     vp.triangulation.max_condition = p.triangulation_max_condition;
     const msckf::VisualLinearSystem sys =
         msckf::build_visual_update(tracks, clones, extrinsics, state_.P(), vp);
