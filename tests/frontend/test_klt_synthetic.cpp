@@ -16,11 +16,26 @@ namespace {
 
 using test::apply;
 using test::k_of;
+
 using test::pinhole;
 using test::textured_image;
 using test::warp;
 
 constexpr TimeNs kFrameNs = 50'000'000;  // 20 Hz
+
+/// Homographies of 8 frames at 20 Hz of a camera turning at the constant rate w (camera
+/// frame), and the matching gyro samples.
+void rotation_sequence(const cv::Matx33d& K, const Eigen::Vector3d& w, std::vector<cv::Matx33d>* H,
+                       std::vector<Eigen::Vector3d>* gyro) {
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(w.norm() * k * 0.05, w.normalized()).toRotationMatrix();
+    cv::Matx33d Rt;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) Rt(i, j) = R(j, i);
+    H->push_back(K * Rt * K.inv());
+    gyro->push_back(w);
+  }
+}
 
 TEST(GridDetector, RespectsMinDistanceQuotaAndCount) {
   FrontendParams p;
@@ -246,14 +261,7 @@ TEST(KltTracker, GyroPredictionKeepsTracksUnderFastRotation) {
   const Eigen::Vector3d w(0.0, 3.0, 0.0);
   std::vector<cv::Matx33d> H;
   std::vector<Eigen::Vector3d> gyro;
-  for (int k = 0; k < 8; ++k) {
-    const Eigen::Matrix3d R = Eigen::AngleAxisd(w.norm() * k * 0.05, w.normalized()).toRotationMatrix();
-    cv::Matx33d Rt;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) Rt(i, j) = R(j, i);
-    H.push_back(K * Rt * K.inv());
-    gyro.push_back(w);
-  }
+  rotation_sequence(K, w, &H, &gyro);
   FrontendParams with;
   const SyntheticRun r_with = run_sequence(with, H, gyro);
   FrontendParams without;
@@ -277,14 +285,7 @@ TEST(KltTracker, TwoPointRansacModeTracks) {
   const Eigen::Vector3d w(0.2, 0.5, -0.1);
   std::vector<cv::Matx33d> H;
   std::vector<Eigen::Vector3d> gyro;
-  for (int k = 0; k < 8; ++k) {
-    const Eigen::Matrix3d R = Eigen::AngleAxisd(w.norm() * k * 0.05, w.normalized()).toRotationMatrix();
-    cv::Matx33d Rt;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) Rt(i, j) = R(j, i);
-    H.push_back(K * Rt * K.inv());
-    gyro.push_back(w);
-  }
+  rotation_sequence(K, w, &H, &gyro);
   FrontendParams p;
   p.ransac = RansacMode::kTwoPoint;
   const SyntheticRun r = run_sequence(p, H, gyro);
