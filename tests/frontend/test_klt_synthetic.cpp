@@ -16,7 +16,6 @@ namespace {
 
 using test::apply;
 using test::k_of;
-
 using test::pinhole;
 using test::textured_image;
 using test::warp;
