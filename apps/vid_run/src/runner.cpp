@@ -150,9 +150,10 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   Pipeline pipeline(pcfg);
 
   std::unique_ptr<KltTracker> tracker;
-  std::vector<std::unique_ptr<CameraModel>> models;
-  for (const auto& cam : cfg.cameras) models.push_back(CameraModel::create(cam));
-  if (source == FeatureSource::kImages) {
+  std::vector<std::unique_ptr<CameraModel>> models;  // feat0: undistortion of the given pixels
+  if (source == FeatureSource::kFeat0) {
+    for (const auto& cam : cfg.cameras) models.push_back(CameraModel::create(cam));
+  } else {
     std::vector<CameraCalib> tracked(cfg.cameras.begin(), cfg.cameras.begin() + std::min<std::size_t>(2, cfg.cameras.size()));
     if (!cfg.frontend.stereo) tracked.resize(1);
     tracker = std::make_unique<KltTracker>(cfg.frontend, tracked);
