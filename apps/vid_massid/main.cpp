@@ -1,0 +1,32 @@
+/// @file main.cpp
+/// @brief vid_massid: the mass-identification study (seed sections 4-6) — generate data,
+/// run the methods, write the tables and plots.
+#include <CLI/CLI.hpp>
+
+#include "app/run_main.h"
+#include "commands.h"
+
+int main(int argc, char** argv) {
+  return vid::app::run_main("vid_massid", [&]() -> int {
+    CLI::App cli{"Mass-identification study: simulate a quadrotor whose mass changes in flight, "
+                 "identify the mass with EKF/MSCKF/UKF/SWLS/ELM/RELM/OSELM, report RMSPE and "
+                 "update times."};
+    cli.require_subcommand(1);
+    int exit_code = 0;
+#ifdef VID_MASSID_HAVE_GENERATE
+    vid::massid_app::add_generate_command(cli, &exit_code);
+#endif
+#ifdef VID_MASSID_HAVE_RUN_REPORT
+    vid::massid_app::add_run_report_commands(cli, &exit_code);
+#endif
+#ifdef VID_MASSID_HAVE_ELM_STUDY
+    vid::massid_app::add_elm_study_command(cli, &exit_code);
+#endif
+    try {
+      cli.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      return cli.exit(e);
+    }
+    return exit_code;
+  });
+}
