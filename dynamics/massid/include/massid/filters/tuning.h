@@ -1,0 +1,40 @@
+#pragma once
+/// @file tuning.h
+/// @brief Noise model and window settings shared by the model-based mass estimators
+/// (EKF, UKF, MSCKF, SWLS). Process noise is eq. 1's additive n_x as random walks on the
+/// error state; measurement noise (eq. 2's n_y) comes from the run's RunInfo sigmas.
+
+#include <Eigen/Core>
+
+#include "massid/filters/quadrotor_mass_model.h"
+#include "massid/run_data.h"
+
+namespace vid::massid {
+
+/// @brief Tuning of the model-based methods (documented in README "Methods").
+struct ModelBasedTuning {
+  double sigma_theta_rw = 0.02;   ///< attitude random walk [rad/sqrt(s)] (body-rate tracking error)
+  double sigma_p_rw = 0.01;       ///< position random walk [m/sqrt(s)]
+  double sigma_v_rw = 0.1;        ///< velocity random walk [m/s/sqrt(s)] (thrust error, drag)
+  double sigma_m_rw_rel = 0.03;   ///< mass random walk [fraction of the initial guess / sqrt(s)]
+  double sigma_m0_rel = 0.3;      ///< initial mass sigma [fraction of the initial guess]
+  double min_sigma_q = 1e-3;      ///< floors when a run declares zero measurement noise
+  double min_sigma_p = 1e-3;
+  double min_sigma_v = 1e-3;
+  int msckf_window = 10;          ///< MSCKF: samples per window (one stacked update per window)
+  int swls_window = 10;           ///< SWLS: states in the sliding window
+  int swls_max_iterations = 3;    ///< SWLS: Gauss-Newton/LM iterations per new sample
+  double swls_function_tolerance = 1e-6;  ///< SWLS: Ceres function (and parameter) tolerance
+};
+
+/// @brief Discrete process covariance Q (10 x 10, diagonal) for an interval dt.
+QuadrotorMassModel::StateMat process_covariance(const ModelBasedTuning& t, double mass_guess,
+                                                double dt);
+/// @brief Measurement covariance R (9 x 9, diagonal) of a run.
+Eigen::Matrix<double, 9, 9> measurement_covariance(const ModelBasedTuning& t, const RunInfo& info);
+/// @brief Initial covariance P0: measurement sigmas on [theta, p, v], sigma_m0 on m.
+QuadrotorMassModel::StateMat initial_covariance(const ModelBasedTuning& t, const RunInfo& info);
+/// @brief Initial state: first sample's measurement and the run's initial mass guess.
+QuadMassState initial_state(const RunInfo& info, const MassIdSample& first);
+
+}  // namespace vid::massid

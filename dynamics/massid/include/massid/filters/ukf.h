@@ -1,0 +1,134 @@
+#pragma once
+/// @file ukf.h
+/// @brief Unscented Kalman filter with sigma points on the manifold (seed eqs. 15-17):
+/// chi_0 = x, chi_{i, i+n} = x ⊞ (± sqrt((n + lambda) P))_i (eq. 15); the predicted mean is
+/// the weighted manifold mean of f(chi) (fixed-point iteration in the tangent of the current
+/// mean), P^- = sum w_c (chi ⊟ x^-)(.)^T + Q (eq. 16); the update redraws sigma points around
+/// (x^-, P^-), forms Pyy = sum w_c dy dy^T + R and Pxy = sum w_c dx dy^T with dy taken in the
+/// tangent of h(x^-), K = Pxy Pyy^-1 (eq. 17).
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <array>
+
+#include "massid/filters/kalman_update.h"
+#include "massid/filters/system_model.h"
+
+namespace vid::massid {
+
+/// @brief Scaled unscented transform parameters: lambda = alpha^2 (n + kappa) - n.
+struct UkfParams {
+  double alpha = 1.0;
+  double beta = 0.0;
+  double kappa = 0.0;
+  int mean_iterations = 2;  ///< manifold mean fixed-point iterations (1 suffices in R^n)
+};
+
+/// @brief UKF over any ManifoldSystem.
+template <ManifoldSystem Model>
+class ManifoldUkf {
+ public:
+  static constexpr int N = Model::kStateDim;
+  static constexpr int M = Model::kMeasDim;
+  static constexpr int S = 2 * N + 1;
+  using State = typename Model::State;
+  using StateVec = Eigen::Matrix<double, N, 1>;
+  using StateCov = Eigen::Matrix<double, N, N>;
+  using MeasVec = Eigen::Matrix<double, M, 1>;
+  using MeasCov = Eigen::Matrix<double, M, M>;
+
+  explicit ManifoldUkf(Model model = Model(), UkfParams params = {})
+      : model_(std::move(model)), params_(params) {
+    const double n = N;
+    lambda_ = params.alpha * params.alpha * (n + params.kappa) - n;
+    wm0_ = lambda_ / (n + lambda_);
+    wc0_ = wm0_ + (1.0 - params.alpha * params.alpha + params.beta);
+    wi_ = 0.5 / (n + lambda_);
+  }
+
+  void init(const State& x0, const StateCov& P0) {
+    x_ = x0;
+    P_ = P0;
+  }
+
+  /// @brief Eqs. 15-16. @return false if P is not positive definite (state unchanged).
+  bool predict(const typename Model::Input& u, double dt, const StateCov& Q) {
+    std::array<State, S> chi;
+    if (!draw(&chi)) return false;
+    for (State& c : chi) c = model_.propagate(c, u, dt);
+    State mean = chi[0];
+    std::array<StateVec, S> d;
+    for (int it = 0; it < params_.mean_iterations; ++it) {
+      StateVec dm = StateVec::Zero();
+      for (int i = 0; i < S; ++i) {
+        d[i] = Model::boxminus(chi[i], mean);
+        dm += weight_m(i) * d[i];
+      }
+      mean = Model::boxplus(mean, dm);
+    }
+    StateCov P = Q;
+    for (int i = 0; i < S; ++i) {
+      const StateVec di = Model::boxminus(chi[i], mean);
+      P.noalias() += weight_c(i) * di * di.transpose();
+    }
+    x_ = mean;
+    P_ = 0.5 * (P + P.transpose());
+    return true;
+  }
+
+  /// @brief Eq. 17. @return false if P or Pyy is not positive definite.
+  bool update(const typename Model::Meas& y, const MeasCov& R) {
+    std::array<State, S> chi;
+    if (!draw(&chi)) return false;
+    const typename Model::Meas y_ref = model_.measure(x_);
+    std::array<MeasVec, S> dy;
+    MeasVec dy_mean = MeasVec::Zero();
+    for (int i = 0; i < S; ++i) {
+      dy[i] = Model::meas_boxminus(model_.measure(chi[i]), y_ref);
+      dy_mean += weight_m(i) * dy[i];
+    }
+    MeasCov Pyy = R;
+    Eigen::Matrix<double, N, M> Pxy = Eigen::Matrix<double, N, M>::Zero();
+    for (int i = 1; i < S; ++i) {  // chi_0 has zero state deviation; its dy enters Pyy only
+      const MeasVec e = dy[i] - dy_mean;
+      Pyy.noalias() += weight_c(i) * e * e.transpose();
+      Pxy.noalias() += weight_c(i) * sigma_offset(i) * e.transpose();
+    }
+    const MeasVec e0 = dy[0] - dy_mean;
+    Pyy.noalias() += wc0_ * e0 * e0.transpose();
+    const MeasVec r = Model::meas_boxminus(y, y_ref) - dy_mean;
+    StateVec dx;
+    if (!kalman_correct<N, M>(P_, Pxy, Pyy, r, &dx)) return false;
+    x_ = Model::boxplus(x_, dx);
+    return true;
+  }
+
+  const State& state() const { return x_; }
+  const StateCov& covariance() const { return P_; }
+
+ private:
+  double weight_m(int i) const { return i == 0 ? wm0_ : wi_; }
+  double weight_c(int i) const { return i == 0 ? wc0_ : wi_; }
+  StateVec sigma_offset(int i) const { return i <= N ? L_.col(i - 1) : StateVec(-L_.col(i - N - 1)); }
+
+  bool draw(std::array<State, S>* chi) {
+    Eigen::LLT<StateCov> llt((N + lambda_) * P_);
+    if (llt.info() != Eigen::Success) return false;
+    L_ = llt.matrixL();
+    (*chi)[0] = x_;
+    for (int i = 0; i < N; ++i) {
+      (*chi)[1 + i] = Model::boxplus(x_, L_.col(i));
+      (*chi)[1 + N + i] = Model::boxplus(x_, StateVec(-L_.col(i)));
+    }
+    return true;
+  }
+
+  Model model_;
+  UkfParams params_;
+  double lambda_ = 0.0, wm0_ = 0.0, wc0_ = 0.0, wi_ = 0.0;
+  State x_{};
+  StateCov P_ = StateCov::Identity();
+  StateCov L_ = StateCov::Zero();
+};
+
+}  // namespace vid::massid

@@ -1,0 +1,91 @@
+/// @file estimators.cpp
+/// @brief MassEstimator adapters: the generic EKF / UKF (on QuadrotorMassModel), the window
+/// MSCKF and SWLS, fed one study sample at a time. The input of sample k is held over
+/// [t_k, t_{k+1}] (zero-order hold of the commands).
+#include "massid/filters/estimators.h"
+
+#include <stdexcept>
+
+#include "massid/filters/ekf.h"
+#include "massid/filters/msckf.h"
+#include "massid/filters/swls.h"
+#include "massid/filters/ukf.h"
+
+namespace vid::massid {
+namespace {
+
+/// @brief Shared bookkeeping: time step, held input, noise matrices.
+template <class Filter>
+class FilterAdapter : public MassEstimator {
+ public:
+  FilterAdapter(std::string name, const ModelBasedTuning& tuning) : name_(std::move(name)), tuning_(tuning) {}
+  std::string name() const override { return name_; }
+
+  void reset(const RunInfo& info, const MassIdSample& first) override {
+    info_ = info;
+    model_ = QuadrotorMassModel(info.gravity);
+    R_ = measurement_covariance(tuning_, info);
+    make_filter();
+    filter_->init(initial_state(info, first), initial_covariance(tuning_, info));
+    last_t_ = first.t;
+    u_ = QuadrotorMassModel::input_of(first);
+  }
+
+  double update(const MassIdSample& s) override {
+    const double dt = s.t - last_t_;
+    // The first sample (already used by reset) or a repeated time brings nothing new.
+    if (!(dt > 0.0)) return filter_->state().mass_kg;
+    filter_->predict(u_, dt, process_covariance(tuning_, info_.initial_mass_guess, dt));
+    correct(QuadrotorMassModel::meas_of(s));
+    last_t_ = s.t;
+    u_ = QuadrotorMassModel::input_of(s);
+    return filter_->state().mass_kg;
+  }
+
+ protected:
+  virtual void make_filter() = 0;
+  void correct(const QuadMassMeas& y) { filter_->update(y, R_); }
+
+  std::string name_;
+  ModelBasedTuning tuning_;
+  RunInfo info_;
+  QuadrotorMassModel model_;
+  Eigen::Matrix<double, 9, 9> R_;
+  std::unique_ptr<Filter> filter_;
+  double last_t_ = 0.0;
+  QuadMassInput u_;
+};
+
+class EkfEstimator final : public FilterAdapter<ManifoldEkf<QuadrotorMassModel>> {
+ public:
+  explicit EkfEstimator(const ModelBasedTuning& t) : FilterAdapter("ekf", t) {}
+  void make_filter() override { filter_ = std::make_unique<ManifoldEkf<QuadrotorMassModel>>(model_); }
+};
+
+class UkfEstimator final : public FilterAdapter<ManifoldUkf<QuadrotorMassModel>> {
+ public:
+  explicit UkfEstimator(const ModelBasedTuning& t) : FilterAdapter("ukf", t) {}
+  void make_filter() override { filter_ = std::make_unique<ManifoldUkf<QuadrotorMassModel>>(model_); }
+};
+
+class MsckfEstimator final : public FilterAdapter<WindowMsckf> {
+ public:
+  explicit MsckfEstimator(const ModelBasedTuning& t) : FilterAdapter("msckf", t) {}
+  void make_filter() override { filter_ = std::make_unique<WindowMsckf>(model_, tuning_.msckf_window); }
+};
+
+}  // namespace
+
+std::vector<std::string> model_based_methods() { return {"ekf", "ukf", "msckf", "swls"}; }
+
+std::unique_ptr<MassEstimator> make_model_based_estimator(const std::string& method,
+                                                          const ModelBasedTuning& tuning) {
+  if (method == "ekf") return std::make_unique<EkfEstimator>(tuning);
+  if (method == "ukf") return std::make_unique<UkfEstimator>(tuning);
+  if (method == "msckf") return std::make_unique<MsckfEstimator>(tuning);
+  if (method == "swls") return make_swls_estimator(tuning);
+  throw std::invalid_argument("unknown model-based method '" + method +
+                              "' (expected ekf, ukf, msckf or swls)");
+}
+
+}  // namespace vid::massid

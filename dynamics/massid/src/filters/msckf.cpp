@@ -1,0 +1,76 @@
+/// @file msckf.cpp
+/// @brief Window MSCKF of the mass study (seed eqs. 9-14).
+#include "massid/filters/msckf.h"
+
+#include <Eigen/Cholesky>
+#include <stdexcept>
+
+namespace vid::massid {
+
+WindowMsckf::WindowMsckf(Model model, int window) : model_(model), window_(window) {
+  if (window < 1) throw std::invalid_argument("WindowMsckf: window must be >= 1");
+  P_ = Eigen::MatrixXd::Zero(10 + kCloneDim * window, 10 + kCloneDim * window);
+  clones_.reserve(window);
+  meas_.reserve(window);
+}
+
+void WindowMsckf::init(const QuadMassState& x0, const Model::StateMat& P0) {
+  x_ = x0;
+  P_.setZero();
+  P_.topLeftCorner<10, 10>() = P0;
+  clones_.clear();
+  meas_.clear();
+}
+
+void WindowMsckf::predict(const QuadMassInput& u, double dt, const Model::StateMat& Q) {
+  const Model::StateMat F = model_.state_jacobian(x_, u, dt);
+  x_ = model_.propagate(x_, u, dt);
+  const int nc = kCloneDim * clone_count();
+  Model::StateMat Pxx = F * P_.topLeftCorner<10, 10>() * F.transpose() + Q;
+  P_.topLeftCorner<10, 10>() = Pxx;
+  if (nc > 0) {
+    // Clones are static: only the current-state rows (and mirrored columns) change.
+    Eigen::MatrixXd Pxc = F * P_.block(0, 10, 10, nc);
+    P_.block(0, 10, 10, nc) = Pxc;
+    P_.block(10, 0, nc, 10) = Pxc.transpose();
+  }
+}
+
+bool WindowMsckf::update(const QuadMassMeas& y, const Eigen::Matrix<double, 9, 9>& R) {
+  // Augment (eqs. 9-10): the clone is [theta, p, v] of the current state, J = [I_9 0].
+  const int at = 10 + kCloneDim * clone_count();
+  P_.block(at, 0, kCloneDim, at) = P_.block(0, 0, kCloneDim, at);
+  P_.block(0, at, at, kCloneDim) = P_.block(0, 0, at, kCloneDim);
+  P_.block<kCloneDim, kCloneDim>(at, at) = P_.topLeftCorner<kCloneDim, kCloneDim>();
+  clones_.push_back(model_.measure(x_));
+  meas_.push_back(y);
+  if (clone_count() < window_) return false;
+  const bool ok = stacked_update(R);
+  clones_.clear();
+  meas_.clear();
+  return ok;
+}
+
+bool WindowMsckf::stacked_update(const Eigen::Matrix<double, 9, 9>& R) {
+  const int c = clone_count();
+  const int nc = kCloneDim * c;
+  // Eqs. 11-14 with H = [0 | I]: S = P_cc + blockdiag(R), correction of the current state only.
+  Eigen::MatrixXd S = P_.block(10, 10, nc, nc);
+  Eigen::VectorXd r(nc);
+  for (int j = 0; j < c; ++j) {
+    S.block<9, 9>(9 * j, 9 * j) += R;
+    r.segment<9>(9 * j) = Model::meas_boxminus(meas_[j], clones_[j]);
+  }
+  Eigen::LLT<Eigen::MatrixXd> llt(S);
+  if (llt.info() != Eigen::Success) return false;
+  // W_x = P_xc L^-T (10 x nc)
+  Eigen::MatrixXd Wx = llt.matrixL().solve(P_.block(10, 0, nc, 10)).transpose();
+  const Model::StateVec dx = Wx * llt.matrixL().solve(r);
+  Model::StateMat Pxx = P_.topLeftCorner<10, 10>();
+  Pxx.noalias() -= Wx * Wx.transpose();
+  P_.topLeftCorner<10, 10>() = 0.5 * (Pxx + Pxx.transpose());
+  x_ = Model::boxplus(x_, dx);
+  return true;
+}
+
+}  // namespace vid::massid
