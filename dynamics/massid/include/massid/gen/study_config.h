@@ -51,8 +51,8 @@ struct ControllerSettings {
   double weight_v = 1.0;        ///< velocity error weight [s^2/m^2]
   double weight_a = 0.2;        ///< acceleration deviation from the reference [s^4/m^2]
   double accel_xy_max = 6.0;    ///< per-axis bound on horizontal acceleration [m/s^2]
-  double integral_gain = 1.0;   ///< position-error integral [1/s^3] (0 = off)
-  double integral_accel_max = 3.0;  ///< anti-windup bound on the integral term [m/s^2]
+  double integral_gain = 2.0;   ///< position-error integral [1/s^3] (0 = off)
+  double integral_accel_max = 6.0;  ///< anti-windup bound on the integral term [m/s^2]
   double attitude_gain = 8.0;   ///< P gain on the attitude error [1/s]
   double rate_max = 6.0;        ///< per-axis body-rate bound [rad/s]
   double tilt_max_deg = 40.0;   ///< thrust-direction tilt bound
