@@ -1,0 +1,117 @@
+#pragma once
+/// @file live_engine.h
+/// @brief vid_live's engine: raw LCM payloads in (from the LCM thread), decoded and put in
+/// order by a reorder window, queued (bounded: under overload the oldest camera frames are
+/// dropped, never IMU), run by a worker thread through the same RunSession as vid_run, with
+/// estimates, force and health published on LCM.
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <lcm/lcm-cpp.hpp>
+#include <nlohmann/json.hpp>
+
+#include "io/dataset_reader.h"
+#include "io/lcm/channels.h"
+#include "io/lcm/lcm_convert.h"
+#include "live/live_types.h"
+#include "live/reorder_window.h"
+#include "runner/run_session.h"
+
+namespace vid::live {
+
+/// @brief Settings of a live run.
+struct LiveOptions {
+  runner::SessionOptions session;          ///< out_dir, preset, mode, init (features = images)
+  io::DatasetCalibration calibration;      ///< sensor files (cameras, IMU, rotors, vehicle)
+  lcm_io::ChannelNames channels;
+  TimeNs reorder_window_ns = 30'000'000;   ///< data time a message waits for late-comers
+  std::size_t max_queued_frames = 4;       ///< camera frames waiting for the worker
+  bool block_when_full = false;            ///< true: the LCM thread waits instead of dropping (logs)
+  double stall_s = 0.5;                    ///< no camera frame for this long (data time) = stall
+  std::string source_url;                  ///< recorded in the summary
+};
+
+/// @brief Health of the estimator as published.
+using lcm_io::Health;
+
+/// @brief The live estimator. on_message() is called by one thread (the LCM handler thread);
+/// the engine runs the estimator on its own worker thread.
+class LiveEngine {
+ public:
+  /// @param publisher  LCM instance to publish VID_STATE / VID_FORCE / VID_STATUS on (may be null)
+  LiveEngine(LiveOptions options, lcm::LCM* publisher);
+  ~LiveEngine();
+  LiveEngine(const LiveEngine&) = delete;
+  LiveEngine& operator=(const LiveEngine&) = delete;
+
+  /// @brief Channels to subscribe to (IMU, cameras tracked, rotors or thrust).
+  std::vector<std::string> input_channels() const;
+  /// @brief Subscribe the engine to its input channels on @p lcm.
+  void subscribe(lcm::LCM& lcm);
+  /// @brief LCM raw-buffer handler (forwards to on_message).
+  void on_raw(const lcm::ReceiveBuffer* rbuf, const std::string& channel);
+  /// @brief One raw payload from @p channel (decoding failures are counted, never thrown).
+  void on_message(const std::string& channel, const void* data, std::size_t size);
+  /// @brief End of input: release everything held, let the worker finish, join it. Idempotent.
+  void finish();
+  /// @brief summary.json content (session summary + live fields); final after finish().
+  nlohmann::json summary() const;
+  /// @brief Write DIR/summary.json when an output folder was given.
+  void write_summary() const;
+  /// @brief Health now.
+  Health health() const;
+  /// @brief Estimates published so far.
+  long published_states() const;
+  /// @brief Payloads received on the input channels so far (decoded or not).
+  const std::atomic<long>& message_count() const { return messages_; }
+
+ private:
+  void deliver(std::vector<LiveItem> items, std::unique_lock<std::mutex>& lock);
+  void push_work(WorkItem w, std::unique_lock<std::mutex>& lock);
+  void worker_loop();
+  void process(WorkItem& w);
+  void publish_estimate(const runner::RunSession& s, const EstimateOutput& e);
+  void publish_status_locked(TimeNs t);
+  std::vector<std::pair<std::string, std::int64_t>> counters() const;  // under mutex_
+  Health health_locked() const;
+
+  LiveOptions opt_;
+  lcm::LCM* pub_;
+  std::unique_ptr<runner::RunSession> session_;
+  int tracked_cameras_ = 1;
+  bool use_rotor_ = false, use_thrust_ = false;
+  int rotor_count_ = 0;
+  std::string rotor_unit_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable cv_work_, cv_space_;
+  ReorderWindow window_;
+  std::deque<WorkItem> queue_;
+  std::size_t queued_frames_ = 0;
+  bool input_done_ = false, finished_ = false;
+  std::int64_t frames_dropped_overload_ = 0, frames_without_left_ = 0, camera_stalls_ = 0;
+  std::thread worker_;
+  std::atomic<long> messages_{0};
+
+  // Worker-thread state (read by summary()/health() under mutex_).
+  Health health_ = Health::kInitializing;
+  int reinit_count_ = 0;
+  long published_ = 0;
+  bool stalled_ = false;
+  std::optional<TimeNs> first_t_, last_t_, last_frame_t_, last_status_t_;
+  std::map<TimeNs, SteadyClock::time_point> frame_arrival_;     ///< frames pushed, not yet processed
+  std::vector<SteadyClock::time_point> processed_arrivals_;     ///< processed, awaiting a state
+  std::vector<double> latency_ms_;
+  SteadyClock::time_point wall_start_;
+};
+
+}  // namespace vid::live

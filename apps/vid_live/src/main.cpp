@@ -1,0 +1,107 @@
+/// vid_live: estimate pose and external force from LCM sensor streams (DESIGN §6, issue 9).
+#include <CLI/CLI.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <csignal>
+
+#include "app/run_main.h"
+#include "io/lcm/channels.h"
+#include "live/lcm_loop.h"
+#include "live/live_engine.h"
+#include "live/sensor_files.h"
+
+namespace {
+std::atomic<bool> g_stop{false};
+extern "C" void on_signal(int) { g_stop.store(true); }
+}  // namespace
+
+int main(int argc, char** argv) {
+  spdlog::set_default_logger(spdlog::stderr_color_mt("vid_live"));
+  spdlog::set_pattern("%^vid_live: %l:%$ %v");
+  return vid::app::run_main("vid_live", [&]() -> int {
+    CLI::App app{"vid_live: estimate pose and external force from LCM sensor streams (IMU, cameras, rotor speeds)"};
+    std::string url, publish_url, config, sensors, channels, out, mode, init, overload = "auto";
+    double window_ms = 30.0, stall_s = 0.5, idle_s = 0.0;
+    std::size_t max_frames = 4;
+    bool thrust = false, quiet = false;
+    app.add_option("--lcm-url", url, "LCM URL to read sensors from (memq://, udpm://..., file://LOG?speed=1)")
+        ->required();
+    app.add_option("--publish-url", publish_url,
+                   "LCM URL to publish VID_STATE/VID_FORCE/VID_STATUS on (default: --lcm-url; for a file:// input: "
+                   "none; file://OUT.log?mode=w writes an event log)");
+    app.add_option("--sensors", sensors,
+                   "sensor files laid out as a dataset folder (camN/sensor.yaml, imu0/, rotor0/, vehicle.yaml), "
+                   "e.g. the replayed dataset");
+    app.add_option("--config", config, "preset folder or its estimator.yaml (as vid_run --config)");
+    app.add_option("--channels", channels, "YAML file of channel names (keys imu, cam0, cam1, rotors, thrust, "
+                                           "state, force, status)");
+    app.add_option("--out", out, "write vid_run's output files (trajectory_tum.txt, state.csv, ..., summary.json)");
+    app.add_option("--mode", mode, "imu | dynamics (default: dynamics when a rotor sensor is configured)")
+        ->check(CLI::IsMember({"imu", "dynamics"}));
+    app.add_option("--init", init, "static (default: the config's init_mode)")->check(CLI::IsMember({"static"}));
+    app.add_flag("--thrust", thrust, "read collective thrust (thrust_t) instead of rotor speeds");
+    app.add_option("--reorder-window-ms", window_ms, "data time a message is held for late-comers [ms]")
+        ->check(CLI::Range(0.0, 10000.0));
+    app.add_option("--max-queued-frames", max_frames, "camera frames waiting for the estimator before the oldest "
+                                                      "is dropped")
+        ->check(CLI::Range(1, 1000));
+    app.add_option("--overload", overload,
+                   "auto | drop | block: when the queue is full drop the oldest frame, or make the reader wait "
+                   "(auto: block for file:// logs with speed=0, drop otherwise)")
+        ->check(CLI::IsMember({"auto", "drop", "block"}));
+    app.add_option("--stall-s", stall_s, "no camera frame for this long (data time) counts as a camera stall [s]");
+    app.add_option("--idle-timeout", idle_s, "live transports: stop after this long without messages [s] (0: never)");
+    app.add_flag("--quiet", quiet, "warnings only");
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      return app.exit(e);
+    }
+    if (quiet) spdlog::set_level(spdlog::level::warn);
+
+    vid::live::LiveOptions opt;
+    if (!sensors.empty()) opt.calibration = vid::live::load_sensor_files(sensors);
+    if (!channels.empty()) opt.channels = vid::lcm_io::load_channels(channels);
+    if (!config.empty()) opt.session.config = config;
+    if (!out.empty()) opt.session.out_dir = out;
+    if (!mode.empty()) opt.session.mode = vid::mode_from_string(mode);
+    if (!init.empty()) opt.session.init = vid::init_mode_from_string(init);
+    opt.session.has_rotor = !thrust && opt.calibration.rotor.has_value();
+    opt.session.has_thrust = thrust;
+    opt.session.context = url;
+    opt.reorder_window_ns = static_cast<vid::TimeNs>(window_ms * 1e6);
+    opt.max_queued_frames = max_frames;
+    opt.block_when_full = overload == "block" || (overload == "auto" && vid::live::is_fast_log_url(url));
+    opt.stall_s = stall_s;
+    opt.source_url = url;
+    if (opt.session.out_dir) std::filesystem::create_directories(*opt.session.out_dir);
+
+    lcm::LCM input(url);
+    if (!input.good()) throw std::runtime_error(url + ": LCM cannot open this URL");
+    if (publish_url.empty() && !vid::live::is_log_url(url)) publish_url = url;
+    std::unique_ptr<lcm::LCM> output;
+    lcm::LCM* publisher = nullptr;
+    if (publish_url == url) {
+      publisher = &input;
+    } else if (!publish_url.empty()) {
+      output = std::make_unique<lcm::LCM>(publish_url);
+      if (!output->good()) throw std::runtime_error(publish_url + ": LCM cannot open this URL for publishing");
+      publisher = output.get();
+    }
+
+    vid::live::LiveEngine engine(opt, publisher);
+    engine.subscribe(input);
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    spdlog::info("listening on {} ({})", url, fmt::join(engine.input_channels(), ", "));
+    const std::string end = vid::live::run_lcm_loop(input, url, g_stop, idle_s, engine.message_count());
+    engine.finish();
+    engine.write_summary();
+    const auto s = engine.summary();
+    spdlog::info("input ended ({}): {} states published, health {}, {} re-initializations", end,
+                 engine.published_states(), s["health"].get<std::string>(), s["reinit_count"].get<int>());
+    return end == "stopped" ? 130 : 0;
+  });
+}

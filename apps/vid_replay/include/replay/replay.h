@@ -1,0 +1,50 @@
+#pragma once
+/// @file replay.h
+/// @brief vid_replay: publish a dataset folder on LCM (IMU, camera images as mono8 image_t,
+/// rotor speeds / thrust) at a real-time factor or as fast as possible, optionally writing an
+/// LCM event log, with optional fault injection for testing vid_live.
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "io/lcm/channels.h"
+
+namespace vid::replay {
+
+/// @brief Faults injected into the published stream (all off by default).
+struct FaultOptions {
+  double drop_images = 0.0;      ///< probability that an image message is not published
+  double duplicate_imu = 0.0;    ///< probability that an IMU message is published twice
+  double reorder = 0.0;          ///< probability that a message is delayed (any stream)
+  double reorder_max_ms = 20.0;  ///< delay of a reordered message: uniform in (0, max]
+  int malformed = 0;             ///< undecodable / invalid messages spread over the run
+  std::uint64_t seed = 1;
+};
+
+/// @brief Settings of one replay.
+struct ReplayOptions {
+  std::filesystem::path dataset;
+  std::string lcm_url;                      ///< empty: only write the log
+  double rate = 1.0;                        ///< real-time factor (ignored when fast)
+  bool fast = false;                        ///< publish as fast as possible
+  std::optional<std::filesystem::path> log; ///< LCM event log to write (lcm-logplayer format)
+  double start_s = 0.0;                     ///< relative to the first measurement
+  double end_s = -1.0;                      ///< <0: to the end
+  lcm_io::ChannelNames channels;
+  FaultOptions faults;
+  bool progress = true;
+};
+
+/// @brief Publish the dataset. Returns a report: messages per channel and every injected
+/// fault (as vid_live should count them: dropped images per camera, duplicated IMU messages,
+/// reordered arrivals per stream, malformed messages per channel).
+/// @throws io::DatasetError / std::runtime_error on bad input or an unusable LCM URL / log
+nlohmann::json replay(const ReplayOptions& options, const std::atomic<bool>& stop);
+
+}  // namespace vid::replay

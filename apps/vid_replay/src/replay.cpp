@@ -1,0 +1,240 @@
+#include "replay/replay.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <queue>
+#include <random>
+#include <set>
+#include <thread>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "app/progress.h"
+#include "io/dataset_reader.h"
+#include "io/lcm/lcm_convert.h"
+
+namespace vid::replay {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// One message on its way out. `send` orders publication (= t unless delayed by a fault).
+struct Outgoing {
+  TimeNs t = 0, send = 0;
+  std::uint64_t seq = 0;
+  std::string channel, stream;
+  std::vector<std::uint8_t> bytes;
+  bool regular = true;  ///< false for injected copies and malformed payloads
+};
+struct Later {
+  bool operator()(const Outgoing& a, const Outgoing& b) const {
+    return a.send != b.send ? a.send > b.send : a.seq > b.seq;
+  }
+};
+
+/// Rows of a CSV that are not comments or blank (image count per camera).
+std::size_t data_rows(const fs::path& csv) {
+  std::ifstream f(csv);
+  std::size_t n = 0;
+  for (std::string line; std::getline(f, line);)
+    if (!line.empty() && line[0] != '#' && line.find_first_not_of(" \r") != std::string::npos) ++n;
+  return n;
+}
+
+/// 8-bit gray image as vid_run decodes it (16-bit scaled down, colour converted).
+cv::Mat decode_gray8(const std::string& path) {
+  cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
+  if (img.empty()) return img;
+  if (img.depth() == CV_16U) img.convertTo(img, CV_8U, 1.0 / 256.0);
+  if (img.depth() != CV_8U) return {};
+  if (img.channels() == 3) cv::cvtColor(img, img, cv::COLOR_BGR2GRAY);
+  if (img.channels() == 4) cv::cvtColor(img, img, cv::COLOR_BGRA2GRAY);
+  return img;
+}
+
+}  // namespace
+
+nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
+  const FaultOptions& fo = opt.faults;
+  const lcm_io::ChannelNames& ch = opt.channels;
+  io::ReaderOptions ro;
+  ro.read_features = false;
+  ro.read_groundtruth = false;
+  ro.skip_missing_images = true;
+  io::DatasetReader reader(opt.dataset, ro);
+  const std::string rotor_unit = reader.calibration().rotor ? reader.calibration().rotor->unit : "rpm";
+
+  std::unique_ptr<lcm::LCM> lcm;
+  if (!opt.lcm_url.empty()) {
+    lcm = std::make_unique<lcm::LCM>(opt.lcm_url);
+    if (!lcm->good()) throw std::runtime_error(opt.lcm_url + ": LCM cannot open this URL");
+  }
+  std::unique_ptr<lcm::LogFile> log;
+  if (opt.log) {
+    if (opt.log->has_parent_path()) fs::create_directories(opt.log->parent_path());
+    log = std::make_unique<lcm::LogFile>(opt.log->string(), "w");
+    if (!log->good()) throw std::runtime_error(opt.log->string() + ": cannot write the LCM log");
+  }
+
+  // Fault plan: images are never dropped among the first 10 or as the last of a camera (a
+  // receiver sees a drop as a gap between two images); malformed messages follow IMU messages
+  // spread over 10%..90% of the replayed IMU stream.
+  std::mt19937_64 rng(fo.seed);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::map<int, std::size_t> image_count, image_index;
+  for (int cam = 0; cam < 2; ++cam)
+    if (reader.has_stream("cam" + std::to_string(cam)))
+      image_count[cam] = data_rows(reader.mav0() / ("cam" + std::to_string(cam)) / "data.csv");
+  std::set<TimeNs> malformed_at;  // IMU times after which a malformed message goes out
+  auto plan_malformed = [&](TimeNs from, TimeNs to) {
+    std::vector<TimeNs> t_imu;
+    std::ifstream f(reader.mav0() / "imu0" / "data.csv");
+    for (std::string line; std::getline(f, line);) {
+      if (line.empty() || line[0] == '#') continue;
+      const TimeNs t = std::stoll(line.substr(0, line.find(',')));  // the reader has validated the file
+      if (t >= from && t <= to) t_imu.push_back(t);
+    }
+    if (t_imu.empty()) return;
+    std::uniform_int_distribution<std::size_t> pick(t_imu.size() / 10, std::max(t_imu.size() / 10, t_imu.size() * 9 / 10));
+    while (static_cast<int>(malformed_at.size()) < fo.malformed && malformed_at.size() < t_imu.size())
+      malformed_at.insert(t_imu[pick(rng)]);
+  };
+
+  nlohmann::json report;
+  std::map<std::string, long> published, reordered, malformed;
+  std::map<std::string, long> dropped;
+  long duplicated = 0, unreadable = 0, malformed_made = 0;
+  std::priority_queue<Outgoing, std::vector<Outgoing>, Later> heap;
+  std::uint64_t seq = 0;
+  TimeNs max_regular_sent = INT64_MIN;
+  std::optional<TimeNs> t0, wall_t0;
+  TimeNs t_start = 0, t_end = INT64_MAX;
+  const auto wall_start = std::chrono::steady_clock::now();
+  std::unique_ptr<app::ProgressBar> bar;
+
+  auto delay = [&]() -> TimeNs {
+    if (fo.reorder <= 0.0 || U(rng) >= fo.reorder) return 0;
+    return std::max<TimeNs>(1, static_cast<TimeNs>((1.0 - U(rng)) * fo.reorder_max_ms * 1e6));
+  };
+  auto enqueue = [&](TimeNs t, const std::string& channel, const std::string& stream, std::vector<std::uint8_t> bytes,
+                     bool regular, TimeNs send_delay) {
+    heap.push(Outgoing{t, t + send_delay, seq++, channel, stream, std::move(bytes), regular});
+  };
+  auto send = [&](const Outgoing& o) {
+    if (!opt.fast) {
+      if (!wall_t0) wall_t0 = o.send;
+      const auto due = wall_start + std::chrono::nanoseconds(static_cast<TimeNs>(
+                                        static_cast<double>(o.send - *wall_t0) / std::max(opt.rate, 1e-6)));
+      std::this_thread::sleep_until(due);
+    }
+    if (lcm && lcm->publish(o.channel, o.bytes.data(), static_cast<unsigned int>(o.bytes.size())) != 0)
+      throw std::runtime_error(opt.lcm_url + ": publishing on " + o.channel + " failed");
+    if (log) {
+      lcm::LogEvent ev;
+      ev.timestamp = o.send / 1000;  // data time [us]: lcm-logplayer replays at the recorded rate
+      ev.channel = o.channel;
+      ev.datalen = static_cast<int32_t>(o.bytes.size());
+      ev.data = const_cast<std::uint8_t*>(o.bytes.data());
+      if (log->writeEvent(&ev) != 0) throw std::runtime_error(opt.log->string() + ": writing the LCM log failed");
+    }
+    ++published[o.channel];
+    if (o.regular) {
+      if (o.t < max_regular_sent) ++reordered[o.stream];  // arrives after a later message
+      max_regular_sent = std::max(max_regular_sent, o.t);
+    }
+  };
+  auto send_until = [&](TimeNs t) {
+    while (!heap.empty() && heap.top().send <= t) {
+      send(heap.top());
+      heap.pop();
+    }
+  };
+  auto add_malformed = [&](TimeNs t) {
+    const int kind = static_cast<int>(malformed_made++ % 4);
+    if (kind == 0) {  // random bytes on the IMU channel
+      std::vector<std::uint8_t> junk(40);
+      for (auto& b : junk) b = static_cast<std::uint8_t>(rng());
+      enqueue(t, ch.imu, "imu", std::move(junk), false, 0);
+      ++malformed[ch.imu];
+    } else if (kind == 1 || kind == 3) {  // truncated image_t / image_t whose size disagrees
+      std::vector<std::uint8_t> px(16, 128);
+      image_t m = lcm_io::make_image(t, 0, 4, 4, px.data(), 4);
+      if (kind == 3) m.width = 5;
+      auto bytes = lcm_io::encode(m);
+      if (kind == 1) bytes.resize(bytes.size() / 2);
+      enqueue(t, ch.cam0, "cam0", std::move(bytes), false, 0);
+      ++malformed[ch.cam0];
+    } else {  // an imu_t on the rotor channel (wrong type) or, without rotors, on the thrust channel
+      const std::string& c = reader.has_stream("rotor0") ? ch.rotors : ch.thrust;
+      enqueue(t, c, "rotors", lcm_io::encode(lcm_io::to_lcm(ImuSample{t, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()})), false, 0);
+      ++malformed[c];
+    }
+  };
+
+  while (auto m = reader.next()) {
+    if (stop.load()) break;
+    const TimeNs t = stamp_of(*m);
+    if (!t0) {
+      t0 = t;
+      t_start = t + static_cast<TimeNs>(opt.start_s * 1e9);
+      if (opt.end_s >= 0.0) t_end = t + static_cast<TimeNs>(opt.end_s * 1e9);
+      if (opt.progress) bar = std::make_unique<app::ProgressBar>("vid_replay", 1.0);
+      if (fo.malformed > 0) plan_malformed(t_start, t_end);
+    }
+    if (t < t_start) continue;
+    if (t > t_end) break;
+    if (const auto* imu = std::get_if<ImuSample>(&*m)) {
+      auto bytes = lcm_io::encode(lcm_io::to_lcm(*imu));
+      const TimeNs d = delay();
+      const bool dup = fo.duplicate_imu > 0.0 && U(rng) < fo.duplicate_imu;
+      enqueue(t, ch.imu, "imu", bytes, true, d);
+      if (dup) {
+        enqueue(t, ch.imu, "imu", std::move(bytes), false, d);  // published right after the original
+        ++duplicated;
+      }
+      if (malformed_at.count(t)) add_malformed(t);
+    } else if (const auto* r = std::get_if<RotorSample>(&*m)) {
+      enqueue(t, ch.rotors, "rotors", lcm_io::encode(lcm_io::to_lcm(*r, rotor_unit)), true, delay());
+    } else if (const auto* th = std::get_if<ThrustSample>(&*m)) {
+      enqueue(t, ch.thrust, "thrust", lcm_io::encode(lcm_io::to_lcm(*th)), true, delay());
+    } else if (const auto* f = std::get_if<ImageFrame>(&*m)) {
+      for (const auto& ref : f->images) {
+        if (ref.cam_id > 1) continue;
+        const std::size_t k = image_index[ref.cam_id]++;
+        const std::string stream = "cam" + std::to_string(ref.cam_id);
+        if (fo.drop_images > 0.0 && k >= 10 && k + 1 < image_count[ref.cam_id] && U(rng) < fo.drop_images) {
+          ++dropped[stream];
+          continue;
+        }
+        const cv::Mat g = decode_gray8(ref.path);
+        if (g.empty()) {
+          ++unreadable;
+          spdlog::warn("{}: unreadable image, not published", ref.path);
+          continue;
+        }
+        const image_t msg = lcm_io::make_image(t, ref.cam_id, g.cols, g.rows, g.data, g.step[0]);
+        enqueue(t, ref.cam_id == 0 ? ch.cam0 : ch.cam1, stream, lcm_io::encode(msg), true, delay());
+      }
+    }
+    send_until(t);
+    if (bar) bar->update(reader.progress());
+  }
+  send_until(INT64_MAX);
+  if (bar) bar->finish();
+
+  report["published"] = published;
+  report["faults"] = {{"images_dropped", dropped},
+                      {"imu_duplicated", duplicated},
+                      {"reordered_arrivals", reordered},
+                      {"malformed", malformed}};
+  report["images_unreadable"] = unreadable;
+  report["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return report;
+}
+
+}  // namespace vid::replay

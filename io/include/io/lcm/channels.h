@@ -1,0 +1,26 @@
+#pragma once
+/// @file channels.h
+/// @brief LCM channel names used by vid_live and vid_replay (configurable by a YAML file).
+
+#include <filesystem>
+#include <string>
+
+namespace vid::lcm_io {
+
+/// @brief Channel names. The YAML file has any of the keys imu, cam0, cam1, rotors, thrust,
+/// state, force, status (unknown keys are errors).
+struct ChannelNames {
+  std::string imu = "IMU";
+  std::string cam0 = "CAM0";
+  std::string cam1 = "CAM1";
+  std::string rotors = "ROTORS";
+  std::string thrust = "THRUST";
+  std::string state = "VID_STATE";
+  std::string force = "VID_FORCE";
+  std::string status = "VID_STATUS";
+};
+
+/// @brief Load channel names; throws io::ConfigError naming the file and key at fault.
+ChannelNames load_channels(const std::filesystem::path& yaml_file);
+
+}  // namespace vid::lcm_io
