@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 
 #include "io/errors.h"
 #include "io/lcm/channels.h"
@@ -86,7 +87,7 @@ TEST(Channels, DefaultsAndYamlOverrides) {
   const ChannelNames d;
   EXPECT_EQ(d.imu, "IMU");
   EXPECT_EQ(d.state, "VID_STATE");
-  const auto dir = std::filesystem::temp_directory_path() / "vid_live_channels_test";
+  const auto dir = std::filesystem::temp_directory_path() / ("vid_live_channels_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   {
     std::ofstream(dir / "ok.yaml") << "imu: DJI_IMU\ncam0: LEFT\nstate: EST\n";

@@ -69,7 +69,10 @@ def seq():
 
 @pytest.fixture(scope="module")
 def work(tmp_path_factory):
-    return tmp_path_factory.mktemp("live")
+    path = tmp_path_factory.mktemp("live")
+    yield path
+    for log in path.glob("*.log"):  # ~100 MB each (raw images)
+        log.unlink()
 
 
 @pytest.fixture(scope="module")
