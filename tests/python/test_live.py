@@ -213,3 +213,28 @@ def test_cli_errors_are_one_line(tmp_path):
         assert r.returncode != 0, cmd
         lines = [l for l in r.stderr.splitlines() if l.strip() and not l.startswith("Error: ")]
         assert len(lines) == 1 and "error" in lines[0], r.stderr
+
+
+def test_late_messages_and_camera_stall_are_counted(seq, work, clean):
+    """Messages 100 ms late (beyond the 30 ms window) are dropped and counted; a 0.8 s camera
+    stall is counted once, publishes `degraded` while it lasts and tracking resumes after."""
+    import lcm
+    lcm_types()
+    from vid import state_t
+    log = work / "late.log"
+    report = replay(seq, log, work / "late_report.json", "--late", "0.003", "--camera-stall", "3.0", "0.8",
+                    "--fault-seed", "5")
+    out_log = work / "late_published.log"
+    s = live(seq, log, work / "live_late", "--publish-url", f"file://{out_log}?mode=w")
+    inj, got = report["faults"], s["faults"]
+    assert sum(inj["late"].values()) >= 3
+    for stream in ["imu", "rotors", "cam0", "cam1"]:
+        n_late = inj["late"].get(stream, 0)
+        assert got[f"{stream}.late"] == n_late, stream
+        # A late message never enters the estimator: its stream has a gap there.
+        assert got[f"{stream}.missing"] == n_late + inj["stall_images"].get(stream, 0), stream
+    assert inj["camera_stalls"] == 1 and got["camera_stalls"] == 1
+    assert s["counts"]["imu_samples"] == report["published"]["IMU"] - inj["late"].get("imu", 0)
+    health = [state_t.decode(ev.data).status for ev in lcm.EventLog(str(out_log), "r") if ev.channel == "VID_STATE"]
+    assert state_t.STATUS_DEGRADED in health
+    assert health[-1] == state_t.STATUS_TRACKING and s["health"] == "tracking" and s["status"] == "ok"

@@ -42,6 +42,12 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 10000.0));
     app.add_option("--malformed", f.malformed, "fault: number of undecodable/invalid messages")
         ->check(CLI::Range(0, 1000000));
+    app.add_option("--late", f.late, "fault: probability of publishing a message --late-ms after its time")
+        ->check(CLI::Range(0.0, 1.0));
+    app.add_option("--late-ms", f.late_ms, "fault: delay of a late message [ms] (default 100)")
+        ->check(CLI::Range(0.0, 100000.0));
+    std::vector<double> stall;
+    app.add_option("--camera-stall", stall, "fault: START DURATION [s]: no images in that span")->expected(2);
     app.add_option("--fault-seed", f.seed, "seed of the fault injection");
     app.add_option("--report", report, "write what was published and every injected fault as JSON");
     bool quiet = false;
@@ -52,6 +58,11 @@ int main(int argc, char** argv) {
       return app.exit(e);
     }
     opt.dataset = dataset;
+    if (stall.size() == 2) {
+      if (stall[0] < 0.0 || stall[1] <= 0.0) throw std::runtime_error("--camera-stall: START >= 0 and DURATION > 0 expected");
+      f.stall_start_s = stall[0];
+      f.stall_s = stall[1];
+    }
     if (!log.empty()) opt.log = log;
     if (!channels.empty()) opt.channels = vid::lcm_io::load_channels(channels);
     opt.progress = !quiet;

@@ -87,6 +87,8 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   std::mt19937_64 rng(fo.seed);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   std::map<int, std::size_t> image_count, image_index;
+  std::map<std::string, long> stall_images;
+  TimeNs stall_from = INT64_MAX, stall_to = INT64_MIN;
   for (int cam = 0; cam < 2; ++cam)
     if (reader.has_stream("cam" + std::to_string(cam)))
       image_count[cam] = data_rows(reader.mav0() / ("cam" + std::to_string(cam)) / "data.csv");
@@ -117,12 +119,21 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   const auto wall_start = std::chrono::steady_clock::now();
   std::unique_ptr<app::ProgressBar> bar;
 
+  std::map<std::string, long> late;
+  const TimeNs late_ns = static_cast<TimeNs>(fo.late_ms * 1e6);
   auto delay = [&]() -> TimeNs {
     if (fo.reorder <= 0.0 || U(rng) >= fo.reorder) return 0;
     return std::max<TimeNs>(1, static_cast<TimeNs>((1.0 - U(rng)) * fo.reorder_max_ms * 1e6));
   };
+  // A late message is published late_ms after its time: the receiver has processed past it.
+  auto is_late = [&]() { return fo.late > 0.0 && U(rng) < fo.late; };
   auto enqueue = [&](TimeNs t, const std::string& channel, const std::string& stream, std::vector<std::uint8_t> bytes,
                      bool regular, TimeNs send_delay) {
+    if (regular && send_delay == 0 && is_late()) {
+      ++late[stream];
+      regular = false;  // not a reordered arrival: the receiver drops it as late
+      send_delay = late_ns;
+    }
     heap.push(Outgoing{t, t + send_delay, seq++, channel, stream, std::move(bytes), regular});
   };
   auto send = [&](const Outgoing& o) {
@@ -185,6 +196,10 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
       if (opt.end_s >= 0.0) t_end = t + static_cast<TimeNs>(opt.end_s * 1e9);
       if (opt.progress) bar = std::make_unique<app::ProgressBar>("vid_replay", 1.0);
       if (fo.malformed > 0) plan_malformed(t_start, t_end);
+      if (fo.stall_start_s >= 0.0 && fo.stall_s > 0.0) {
+        stall_from = t + static_cast<TimeNs>(fo.stall_start_s * 1e9);
+        stall_to = stall_from + static_cast<TimeNs>(fo.stall_s * 1e9);
+      }
     }
     if (t < t_start) continue;
     if (t > t_end) break;
@@ -207,6 +222,10 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
         if (ref.cam_id > 1) continue;
         const std::size_t k = image_index[ref.cam_id]++;
         const std::string stream = "cam" + std::to_string(ref.cam_id);
+        if (t >= stall_from && t < stall_to) {
+          ++stall_images[stream];
+          continue;
+        }
         if (fo.drop_images > 0.0 && k >= 10 && k + 1 < image_count[ref.cam_id] && U(rng) < fo.drop_images) {
           ++dropped[stream];
           continue;
@@ -231,7 +250,10 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   report["faults"] = {{"images_dropped", dropped},
                       {"imu_duplicated", duplicated},
                       {"reordered_arrivals", reordered},
-                      {"malformed", malformed}};
+                      {"late", late},
+                      {"malformed", malformed},
+                      {"stall_images", stall_images},
+                      {"camera_stalls", stall_images.empty() ? 0 : 1}};
   report["images_unreadable"] = unreadable;
   report["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return report;

@@ -24,6 +24,10 @@ struct FaultOptions {
   double reorder = 0.0;          ///< probability that a message is delayed (any stream)
   double reorder_max_ms = 20.0;  ///< delay of a reordered message: uniform in (0, max]
   int malformed = 0;             ///< undecodable / invalid messages spread over the run
+  double late = 0.0;             ///< probability that a message is delayed by late_ms (any stream)
+  double late_ms = 100.0;        ///< delay of a late message (beyond the receiver's reorder window)
+  double stall_start_s = -1.0;   ///< camera stall: no image from this time (s after the first measurement)
+  double stall_s = 0.0;          ///< ... for this long
   std::uint64_t seed = 1;
 };
 
@@ -43,7 +47,8 @@ struct ReplayOptions {
 
 /// @brief Publish the dataset. Returns a report: messages per channel and every injected
 /// fault (as vid_live should count them: dropped images per camera, duplicated IMU messages,
-/// reordered arrivals per stream, malformed messages per channel).
+/// reordered arrivals per stream, late messages per stream, malformed messages per channel,
+/// images withheld by a camera stall per camera).
 /// @throws io::DatasetError / std::runtime_error on bad input or an unusable LCM URL / log
 nlohmann::json replay(const ReplayOptions& options, const std::atomic<bool>& stop);
 
