@@ -27,18 +27,18 @@ bool is_fast_log_url(const std::string& url) {
   return false;
 }
 
-std::string run_lcm_loop(lcm::LCM& lcm, const std::string& url, const std::atomic<bool>& stop,
+std::string run_lcm_loop(lcm::LCM& lcm, const std::string& url, const std::function<bool()>& stop,
                          double idle_timeout_s, const std::atomic<long>& received) {
   using Clock = std::chrono::steady_clock;
   if (is_log_url(url)) {
     // LCM's file provider: handle() returns -1 once the log is exhausted.
-    while (!stop.load())
+    while (!stop())
       if (lcm.handle() < 0) return "eof";
     return "stopped";
   }
   long last_count = received.load();
   auto last_activity = Clock::now();
-  while (!stop.load()) {
+  while (!stop()) {
     lcm.handleTimeout(100);
     const long n = received.load();
     if (n != last_count) {

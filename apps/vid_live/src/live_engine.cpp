@@ -41,8 +41,8 @@ LiveEngine::LiveEngine(LiveOptions options, lcm::LCM* publisher)
 LiveEngine::~LiveEngine() {
   try {
     finish();
-  } catch (const std::exception& e) {
-    spdlog::error("vid_live: {}", e.what());
+  } catch (const std::exception&) {
+    // already reported by the caller's finish(), or nobody asked
   }
 }
 
@@ -90,17 +90,17 @@ void LiveEngine::on_message(const std::string& channel, const void* data, std::s
       return;  // not ours
     }
     ++messages_;
-  } catch (const lcm_io::DecodeError& e) {
+  } catch (const std::exception& e) {  // DecodeError, or an allocation failure on absurd sizes
     ++messages_;
     std::lock_guard<std::mutex> lock(mutex_);
     window_.count_malformed(stream);
-    spdlog::debug("{}", e.what());
+    if (++malformed_warnings_ <= 5) spdlog::warn("{} (counted; further ones only counted after 5)", e.what());
     return;
   }
   item.stream = stream;
   item.t_ns = std::visit([](const auto& x) { return x.t_ns; }, item.data);
   std::unique_lock<std::mutex> lock(mutex_);
-  if (input_done_) return;
+  if (input_done_ || failed_) return;
   window_.insert(std::move(item));
   deliver(window_.pop_ready(), lock);
 }
@@ -137,7 +137,8 @@ void LiveEngine::push_work(WorkItem w, std::unique_lock<std::mutex>& lock) {
   const bool is_frame = std::holds_alternative<CameraFrame>(w);
   if (is_frame && queued_frames_ >= opt_.max_queued_frames) {
     if (opt_.block_when_full) {
-      cv_space_.wait(lock, [&] { return queued_frames_ < opt_.max_queued_frames; });
+      cv_space_.wait(lock, [&] { return queued_frames_ < opt_.max_queued_frames || failed_; });
+      if (failed_) return;
     } else {
       // Overload: the oldest queued frame goes (IMU and thrust are never dropped).
       auto old = std::find_if(queue_.begin(), queue_.end(),
@@ -164,6 +165,7 @@ void LiveEngine::finish() {
     }
   }
   if (worker_.joinable()) worker_.join();
+  if (failed_) throw std::runtime_error(error_);
 }
 
 void LiveEngine::worker_loop() {
@@ -180,7 +182,18 @@ void LiveEngine::worker_loop() {
         cv_space_.notify_all();
       }
     }
-    process(w);
+    try {
+      process(w);
+    } catch (const std::exception& e) {
+      // e.g. an output file that cannot be written: stop estimating, report it from finish().
+      std::lock_guard<std::mutex> lock(mutex_);
+      error_ = e.what();
+      failed_ = true;
+      queue_.clear();
+      queued_frames_ = 0;
+      cv_space_.notify_all();
+      return;
+    }
   }
   session_->finish();
   std::lock_guard<std::mutex> lock(mutex_);

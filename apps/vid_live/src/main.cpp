@@ -96,8 +96,9 @@ int main(int argc, char** argv) {
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     spdlog::info("listening on {} ({})", url, fmt::join(engine.input_channels(), ", "));
-    const std::string end = vid::live::run_lcm_loop(input, url, g_stop, idle_s, engine.message_count());
-    engine.finish();
+    const std::string end = vid::live::run_lcm_loop(
+        input, url, [&] { return g_stop.load() || engine.failed(); }, idle_s, engine.message_count());
+    engine.finish();  // throws (one-line error, exit 1) when the estimator stopped on an error
     engine.write_summary();
     const auto s = engine.summary();
     spdlog::info("input ended ({}): {} states published, health {}, {} re-initializations", end,

@@ -62,8 +62,12 @@ class LiveEngine {
   /// @brief One raw payload from @p channel (decoding failures are counted, never thrown).
   void on_message(const std::string& channel, const void* data, std::size_t size);
   /// @brief End of input: release everything held, let the worker finish, join it. Idempotent.
+  /// @throws std::runtime_error when the worker stopped on an error (e.g. an unwritable output)
   void finish();
-  /// @brief summary.json content (session summary + live fields); final after finish().
+  /// @brief True once the worker has stopped on an error (the input loop should end).
+  bool failed() const { return failed_.load(); }
+  /// @brief summary.json content (session summary + live fields). Call after finish(): the
+  /// worker owns the session while it runs.
   nlohmann::json summary() const;
   /// @brief Write DIR/summary.json when an output folder was given.
   void write_summary() const;
@@ -101,6 +105,9 @@ class LiveEngine {
   std::int64_t frames_dropped_overload_ = 0, frames_without_left_ = 0, camera_stalls_ = 0;
   std::thread worker_;
   std::atomic<long> messages_{0};
+  std::atomic<bool> failed_{false};
+  std::string error_;
+  int malformed_warnings_ = 0;
 
   // Worker-thread state (read by summary()/health() under mutex_).
   Health health_ = Health::kInitializing;
