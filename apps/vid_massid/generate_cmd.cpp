@@ -23,6 +23,7 @@ struct GenerateOptions {
   std::int64_t seed = -1;
   int threads = 0;
   bool quiet = false;
+  bool truth = false;
 };
 
 int run_generate(const GenerateOptions& o) {
@@ -45,7 +46,8 @@ int run_generate(const GenerateOptions& o) {
   app::ProgressBar bar("generate", total);
   const auto result = massid::gen::generate_dataset(
       settings, o.out, o.threads,
-      [&](int done, int n) { bar.update(done, std::to_string(done) + "/" + std::to_string(n) + " runs"); });
+      [&](int done, int n) { bar.update(done, std::to_string(done) + "/" + std::to_string(n) + " runs"); },
+      o.truth);
   bar.finish();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -86,6 +88,8 @@ void add_generate_command(CLI::App& cli, int* exit_code) {
   cmd->add_option("--seed", opts->seed, "Base seed (overrides the config)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--threads", opts->threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", opts->quiet, "Do not print the per-group tracking table");
+  cmd->add_flag("--truth", opts->truth,
+                "Also write run_NNN_truth.csv (true state, reference, MPC acceleration, saturation)");
   cmd->callback([opts, exit_code]() { *exit_code = run_generate(*opts); });
 }
 

@@ -122,3 +122,23 @@ TEST(MassIdDeterminism, ProgramIsDeterministicAndRejectsBadSettings) {
   EXPECT_EQ(std::count(msg.begin(), msg.end(), '\n'), 1) << msg;
   for (const fs::path& d : {a, b, cfg_dir}) fs::remove_all(d);
 }
+
+TEST(MassIdDeterminism, TruthCompanionOnRequestOnly) {
+  const fs::path a = temp_dir("truth"), b = temp_dir("no_truth");
+  GeneratorSettings s = small_settings();
+  s.trajectories = {"lemniscate"};
+  s.profiles = {"constant"};
+  s.runs = 1;
+  generate_dataset(s, a, 1, {}, true);
+  generate_dataset(s, b, 1);
+  const fs::path truth = a / "lemniscate/constant/run_000_truth.csv";
+  ASSERT_TRUE(fs::exists(truth));
+  EXPECT_FALSE(fs::exists(b / "lemniscate/constant/run_000_truth.csv"));
+  EXPECT_EQ(slurp(a / "lemniscate/constant/run_000.csv"), slurp(b / "lemniscate/constant/run_000.csv"));
+  const std::string text = slurp(truth);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 402);  // header + 401 samples
+  EXPECT_EQ(text.substr(0, text.find('\n')),
+            "t,px,py,pz,qw,qx,qy,qz,vx,vy,vz,px_ref,py_ref,pz_ref,ax_cmd,ay_cmd,az_cmd,saturated");
+  fs::remove_all(a);
+  fs::remove_all(b);
+}

@@ -16,7 +16,8 @@ namespace vid::massid::gen {
 
 GenerationResult generate_dataset(const GeneratorSettings& settings,
                                   const std::filesystem::path& out_dir, int threads,
-                                  const std::function<void(int, int)>& progress) {
+                                  const std::function<void(int, int)>& progress,
+                                  bool write_truth) {
   validate(settings);
   struct Job {
     std::string trajectory, profile;
@@ -45,7 +46,13 @@ GenerationResult generate_dataset(const GeneratorSettings& settings,
         const Job& job = jobs[j];
         const std::uint64_t seed = run_seed(settings.seed, job.trajectory, job.profile, job.index);
         SimulatedRun sim = simulate_run(settings, job.trajectory, job.profile, job.index, seed);
-        write_run_csv(run_csv_path(out_dir, sim.run.info), sim.run.samples);
+        const std::filesystem::path csv = run_csv_path(out_dir, sim.run.info);
+        write_run_csv(csv, sim.run.samples);
+        if (write_truth) {
+          std::filesystem::path truth = csv;
+          truth.replace_filename(csv.stem().string() + "_truth.csv");
+          write_truth_csv(truth, sim);
+        }
         result.runs[j] = sim.run.info;
         result.stats[j] = sim.stats;
       } catch (...) {

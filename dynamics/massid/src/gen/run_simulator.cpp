@@ -3,7 +3,10 @@
 #include "massid/gen/run_simulator.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <fstream>
+#include <stdexcept>
 
 #include "dynamics/rotation_helpers.h"
 #include "massid/gen/mass_profile.h"
@@ -125,6 +128,8 @@ SimulatedRun simulate_run(const GeneratorSettings& s, const std::string& traject
     sample.w_I = u.w_I;
     sample.mass_true = mass.mass_kg(t);
     if (u.saturated) ++saturated;
+    truth.a_cmd_W = u.a_cmd_W;
+    truth.saturated = u.saturated;
     out.stats.thrust_min_N = std::min(out.stats.thrust_min_N, u.thrust_N);
     out.stats.thrust_max_N = std::max(out.stats.thrust_max_N, u.thrust_N);
     out.run.samples.push_back(sample);
@@ -140,6 +145,31 @@ SimulatedRun simulate_run(const GeneratorSettings& s, const std::string& traject
   out.stats.position_rmse_m = std::sqrt(sq_err / static_cast<double>(n));
   out.stats.saturated_fraction = static_cast<double>(saturated) / static_cast<double>(n);
   return out;
+}
+
+void write_truth_csv(const std::filesystem::path& file, const SimulatedRun& run) {
+  std::string text =
+      "t,px,py,pz,qw,qx,qy,qz,vx,vy,vz,px_ref,py_ref,pz_ref,ax_cmd,ay_cmd,az_cmd,saturated\n";
+  auto add = [&text](double x) {
+    char buf[64];
+    text.append(buf, std::to_chars(buf, buf + sizeof(buf), x).ptr);
+    text += ',';
+  };
+  for (size_t k = 0; k < run.truth.size(); ++k) {
+    const TruthSample& x = run.truth[k];
+    add(run.run.samples[k].t);
+    for (int i = 0; i < 3; ++i) add(x.p_WI[i]);
+    add(x.q_WI.w());
+    for (int i = 0; i < 3; ++i) add(x.q_WI.vec()[i]);
+    for (int i = 0; i < 3; ++i) add(x.v_WI[i]);
+    for (int i = 0; i < 3; ++i) add(x.p_ref_W[i]);
+    for (int i = 0; i < 3; ++i) add(x.a_cmd_W[i]);
+    text += x.saturated ? "1\n" : "0\n";
+  }
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  if (!out) throw std::runtime_error(file.string() + ": cannot open for writing");
+  out << text;
+  if (!out) throw std::runtime_error(file.string() + ": write failed");
 }
 
 }  // namespace vid::massid::gen

@@ -34,8 +34,10 @@ struct GenerationResult {
 /// concurrency); each run depends only on its own seed, so output is identical for any
 /// thread count. `progress(done, total)` is called from the calling thread.
 /// @throws std::runtime_error when a file cannot be written
+/// With `write_truth`, each run also gets run_<NNN>_truth.csv (write_truth_csv).
 GenerationResult generate_dataset(const GeneratorSettings& settings,
                                   const std::filesystem::path& out_dir, int threads,
-                                  const std::function<void(int, int)>& progress = {});
+                                  const std::function<void(int, int)>& progress = {},
+                                  bool write_truth = false);
 
 }  // namespace vid::massid::gen

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,8 @@ struct TruthSample {
   Eigen::Vector3d p_WI = Eigen::Vector3d::Zero();
   Eigen::Vector3d v_WI = Eigen::Vector3d::Zero();
   Eigen::Vector3d p_ref_W = Eigen::Vector3d::Zero();  ///< reference position at t_k
+  Eigen::Vector3d a_cmd_W = Eigen::Vector3d::Zero();  ///< acceleration the MPC asked for
+  bool saturated = false;  ///< a controller bound was active at t_k
 };
 
 /// @brief Summary numbers of one run.
@@ -52,5 +55,10 @@ std::uint64_t run_seed(std::uint64_t base_seed, const std::string& trajectory,
 /// @throws std::invalid_argument on unknown trajectory or profile
 SimulatedRun simulate_run(const GeneratorSettings& settings, const std::string& trajectory,
                           const std::string& profile, int index, std::uint64_t seed);
+
+/// @brief Write the noise-free companion of a run (diagnostics, plots of the inputs):
+/// `t,px,py,pz,qw,qx,qy,qz,vx,vy,vz,px_ref,py_ref,pz_ref,ax_cmd,ay_cmd,az_cmd,saturated`.
+/// @throws std::runtime_error naming the file when it cannot be written
+void write_truth_csv(const std::filesystem::path& file, const SimulatedRun& run);
 
 }  // namespace vid::massid::gen
