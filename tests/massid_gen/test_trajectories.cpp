@@ -32,7 +32,8 @@ TEST(MassIdTrajectory, StartsAtRestAtTheDocumentedAltitude) {
     const auto r0 = make_reference_trajectory(name, s, 1)->at(0.0);
     EXPECT_LT(r0.v_W.norm(), 1e-12) << name;
     EXPECT_LT(r0.a_W.norm(), 1e-12) << name;
-    EXPECT_NEAR(r0.p_W.z(), s.altitude_m, name == "zigzag" ? 0.5 * s.zigzag_dz_m + 1e-9 : 1e-9) << name;
+    const double dz = name == "zigzag" ? 0.5 * s.zigzag_dz_m : name == "random" ? s.random_amplitude_z : 0.0;
+    EXPECT_NEAR(r0.p_W.z(), s.altitude_m, dz + 1e-9) << name;
   }
 }
 
@@ -84,10 +85,16 @@ TEST(MassIdTrajectory, RandomDependsOnSeedAndRespectsItsAccelerationBound) {
   const auto c = make_reference_trajectory("random", s, 2);
   EXPECT_EQ(a->at(7.0).p_W, b->at(7.0).p_W);
   EXPECT_GT((a->at(7.0).p_W - c->at(7.0).p_W).norm(), 1e-3);
-  for (double t = s.ramp_s; t < 25.0; t += 0.05) {
-    const auto r = a->at(t);
-    EXPECT_LE(std::abs(r.a_W.x()), s.random_accel_xy + 1e-9);
-    EXPECT_LE(std::abs(r.a_W.z()), s.random_accel_z + 1e-9);
+  for (std::uint64_t seed = 1; seed < 30; ++seed) {
+    const auto tr = make_reference_trajectory("random", s, seed);
+    for (double t = s.ramp_s; t < 25.0; t += 0.05) {
+      const auto r = tr->at(t);
+      EXPECT_LE(std::abs(r.a_W.x()), s.random_accel_xy + 1e-9);
+      EXPECT_LE(std::abs(r.a_W.y()), s.random_accel_xy + 1e-9);
+      EXPECT_LE(std::abs(r.a_W.z()), s.random_accel_z + 1e-9);
+      EXPECT_LE(std::abs(r.p_W.x()), s.random_amplitude_xy + 1e-9);
+      EXPECT_LE(std::abs(r.p_W.z() - s.altitude_m), s.random_amplitude_z + 1e-9);
+    }
   }
   EXPECT_THROW(make_reference_trajectory("circle", s, 0), std::invalid_argument);
 }

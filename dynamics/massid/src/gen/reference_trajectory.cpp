@@ -3,6 +3,7 @@
 /// paths (zigzag, square), all behind a smooth start-up time warp.
 #include "massid/gen/reference_trajectory.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -114,26 +115,25 @@ std::unique_ptr<BasePath> random_path(const TrajectorySettings& s, std::uint64_t
   Rng rng(seed ^ 0x7261'6E64'6F6Dull);  // own stream, independent of the noise stream
   std::array<std::vector<SinusoidPath::Term>, 3> terms;
   for (int axis = 0; axis < 3; ++axis) {
-    const double bound = axis < 2 ? s.random_accel_xy : s.random_accel_z;
-    double peak_accel = 0.0;
+    const double accel_bound = axis < 2 ? s.random_accel_xy : s.random_accel_z;
+    const double amplitude_bound = axis < 2 ? s.random_amplitude_xy : s.random_amplitude_z;
+    double peak_accel = 0.0, peak_offset = 0.0;
     for (int j = 0; j < 3; ++j) {
       SinusoidPath::Term term;
       term.omega = 2.0 * M_PI * rng.uniform(s.random_freq_min_hz, s.random_freq_max_hz);
       term.amplitude = rng.uniform(0.3, 1.0);
       term.phase = rng.uniform(0.0, 2.0 * M_PI);
       peak_accel += term.amplitude * term.omega * term.omega;
+      peak_offset += term.amplitude;
       terms[axis].push_back(term);
     }
-    // Scale so the worst-case sum of accelerations just reaches the axis bound.
-    const double scale = bound / peak_accel;
+    // Scale so the worst-case sums reach the acceleration bound or the size bound, whichever
+    // comes first (slow draws would otherwise wander far).
+    const double scale = std::min(accel_bound / peak_accel, amplitude_bound / peak_offset);
     for (auto& term : terms[axis]) term.amplitude *= scale;
   }
-  // Centre such that the path starts at (0, 0, altitude).
-  Eigen::Vector3d start = Eigen::Vector3d::Zero();
-  for (int axis = 0; axis < 3; ++axis) {
-    for (const auto& term : terms[axis]) start[axis] += term.amplitude * std::sin(term.phase);
-  }
-  return std::make_unique<SinusoidPath>(Eigen::Vector3d(0, 0, s.altitude_m) - start, terms);
+  // Centred on (0, 0, altitude); the start point depends on the phases.
+  return std::make_unique<SinusoidPath>(Eigen::Vector3d(0, 0, s.altitude_m), terms);
 }
 
 }  // namespace

@@ -48,6 +48,8 @@ std::vector<Field> fields_of(GeneratorSettings& s) {
       {"trajectory", "square_leg_s", &t.square_leg_s},
       {"trajectory", "random_accel_xy", &t.random_accel_xy},
       {"trajectory", "random_accel_z", &t.random_accel_z},
+      {"trajectory", "random_amplitude_xy", &t.random_amplitude_xy},
+      {"trajectory", "random_amplitude_z", &t.random_amplitude_z},
       {"trajectory", "random_freq_min_hz", &t.random_freq_min_hz},
       {"trajectory", "random_freq_max_hz", &t.random_freq_max_hz},
       {"mass", "time_jitter_s", &m.time_jitter_s},

@@ -27,6 +27,8 @@ struct TrajectorySettings {
   double square_leg_s = 3.0;       ///< square: duration of one side (rest to rest)
   double random_accel_xy = 3.0;    ///< random: bound on |a| per horizontal axis [m/s^2]
   double random_accel_z = 1.5;     ///< random: bound on |a_z| [m/s^2]
+  double random_amplitude_xy = 3.0;  ///< random: bound on sum of amplitudes per horizontal axis [m]
+  double random_amplitude_z = 0.8;   ///< random: bound on sum of vertical amplitudes [m]
   double random_freq_min_hz = 0.05;
   double random_freq_max_hz = 0.3;
 };
