@@ -4,8 +4,7 @@
 
 #include <chrono>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
+#include <algorithm>
 #include <queue>
 #include <random>
 #include <set>
@@ -16,6 +15,7 @@
 #include "app/progress.h"
 #include "io/dataset_reader.h"
 #include "io/lcm/lcm_convert.h"
+#include "replay/prefetch.h"
 
 namespace vid::replay {
 
@@ -44,17 +44,6 @@ std::size_t data_rows(const fs::path& csv) {
   for (std::string line; std::getline(f, line);)
     if (!line.empty() && line[0] != '#' && line.find_first_not_of(" \r") != std::string::npos) ++n;
   return n;
-}
-
-/// 8-bit gray image as vid_run decodes it (16-bit scaled down, colour converted).
-cv::Mat decode_gray8(const std::string& path) {
-  cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (img.empty()) return img;
-  if (img.depth() == CV_16U) img.convertTo(img, CV_8U, 1.0 / 256.0);
-  if (img.depth() != CV_8U) return {};
-  if (img.channels() == 3) cv::cvtColor(img, img, cv::COLOR_BGR2GRAY);
-  if (img.channels() == 4) cv::cvtColor(img, img, cv::COLOR_BGRA2GRAY);
-  return img;
 }
 
 }  // namespace
@@ -93,6 +82,7 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     if (reader.has_stream("cam" + std::to_string(cam)))
       image_count[cam] = data_rows(reader.mav0() / ("cam" + std::to_string(cam)) / "data.csv");
   std::set<TimeNs> malformed_at;  // IMU times after which a malformed message goes out
+  TimeNs imu_last = INT64_MIN;     // last replayed IMU time (progress)
   auto plan_malformed = [&](TimeNs from, TimeNs to) {
     std::vector<TimeNs> t_imu;
     std::ifstream f(reader.mav0() / "imu0" / "data.csv");
@@ -102,6 +92,8 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
       if (t >= from && t <= to) t_imu.push_back(t);
     }
     if (t_imu.empty()) return;
+    imu_last = t_imu.back();
+    if (fo.malformed <= 0) return;
     std::uniform_int_distribution<std::size_t> pick(t_imu.size() / 10, std::max(t_imu.size() / 10, t_imu.size() * 9 / 10));
     while (static_cast<int>(malformed_at.size()) < fo.malformed && malformed_at.size() < t_imu.size())
       malformed_at.insert(t_imu[pick(rng)]);
@@ -117,6 +109,7 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   std::optional<TimeNs> t0, wall_t0;
   TimeNs t_start = 0, t_end = INT64_MAX;
   const auto wall_start = std::chrono::steady_clock::now();
+  auto wall_anchor = wall_start;
   std::unique_ptr<app::ProgressBar> bar;
 
   std::map<std::string, long> late;
@@ -136,12 +129,17 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     }
     heap.push(Outgoing{t, t + send_delay, seq++, channel, stream, std::move(bytes), regular});
   };
+  double max_lag_ms = 0.0;  // rate mode: how far publication fell behind the schedule
   auto send = [&](const Outgoing& o) {
     if (!opt.fast) {
-      if (!wall_t0) wall_t0 = o.send;
-      const auto due = wall_start + std::chrono::nanoseconds(static_cast<TimeNs>(
+      if (!wall_t0) {  // the schedule starts with the first publication
+        wall_t0 = o.send;
+        wall_anchor = std::chrono::steady_clock::now();
+      }
+      const auto due = wall_anchor + std::chrono::nanoseconds(static_cast<TimeNs>(
                                         static_cast<double>(o.send - *wall_t0) / std::max(opt.rate, 1e-6)));
       std::this_thread::sleep_until(due);
+      max_lag_ms = std::max(max_lag_ms, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - due).count());
     }
     if (lcm && lcm->publish(o.channel, o.bytes.data(), static_cast<unsigned int>(o.bytes.size())) != 0)
       throw std::runtime_error(opt.lcm_url + ": publishing on " + o.channel + " failed");
@@ -187,22 +185,23 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     }
   };
 
-  while (auto m = reader.next()) {
+  Prefetcher prefetch(reader, opt.start_s, opt.end_s);
+  if (!opt.fast) prefetch.wait_ready();
+  while (auto p = prefetch.next()) {
     if (stop.load()) break;
+    const Measurement* m = &p->m;
     const TimeNs t = stamp_of(*m);
     if (!t0) {
-      t0 = t;
-      t_start = t + static_cast<TimeNs>(opt.start_s * 1e9);
-      if (opt.end_s >= 0.0) t_end = t + static_cast<TimeNs>(opt.end_s * 1e9);
+      t0 = p->t0;
+      t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
+      if (opt.end_s >= 0.0) t_end = *t0 + static_cast<TimeNs>(opt.end_s * 1e9);
       if (opt.progress) bar = std::make_unique<app::ProgressBar>("vid_replay", 1.0);
-      if (fo.malformed > 0) plan_malformed(t_start, t_end);
+      if (fo.malformed > 0 || opt.progress) plan_malformed(t_start, t_end);
       if (fo.stall_start_s >= 0.0 && fo.stall_s > 0.0) {
-        stall_from = t + static_cast<TimeNs>(fo.stall_start_s * 1e9);
+        stall_from = *t0 + static_cast<TimeNs>(fo.stall_start_s * 1e9);
         stall_to = stall_from + static_cast<TimeNs>(fo.stall_s * 1e9);
       }
     }
-    if (t < t_start) continue;
-    if (t > t_end) break;
     if (const auto* imu = std::get_if<ImuSample>(&*m)) {
       auto bytes = lcm_io::encode(lcm_io::to_lcm(*imu));
       const TimeNs d = delay();
@@ -218,30 +217,29 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     } else if (const auto* th = std::get_if<ThrustSample>(&*m)) {
       enqueue(t, ch.thrust, "thrust", lcm_io::encode(lcm_io::to_lcm(*th)), true, delay());
     } else if (const auto* f = std::get_if<ImageFrame>(&*m)) {
-      for (const auto& ref : f->images) {
-        if (ref.cam_id > 1) continue;
-        const std::size_t k = image_index[ref.cam_id]++;
-        const std::string stream = "cam" + std::to_string(ref.cam_id);
+      for (const auto& [cam_id, g] : p->images) {
+        const std::size_t k = image_index[cam_id]++;
+        const std::string stream = "cam" + std::to_string(cam_id);
         if (t >= stall_from && t < stall_to) {
           ++stall_images[stream];
           continue;
         }
-        if (fo.drop_images > 0.0 && k >= 10 && k + 1 < image_count[ref.cam_id] && U(rng) < fo.drop_images) {
+        if (fo.drop_images > 0.0 && k >= 10 && k + 1 < image_count[cam_id] && U(rng) < fo.drop_images) {
           ++dropped[stream];
           continue;
         }
-        const cv::Mat g = decode_gray8(ref.path);
         if (g.empty()) {
           ++unreadable;
-          spdlog::warn("{}: unreadable image, not published", ref.path);
+          for (const auto& ref : f->images)
+            if (ref.cam_id == cam_id) spdlog::warn("{}: unreadable image, not published", ref.path);
           continue;
         }
-        const image_t msg = lcm_io::make_image(t, ref.cam_id, g.cols, g.rows, g.data, g.step[0]);
-        enqueue(t, ref.cam_id == 0 ? ch.cam0 : ch.cam1, stream, lcm_io::encode(msg), true, delay());
+        const image_t msg = lcm_io::make_image(t, cam_id, g.cols, g.rows, g.data, g.step[0]);
+        enqueue(t, cam_id == 0 ? ch.cam0 : ch.cam1, stream, lcm_io::encode(msg), true, delay());
       }
     }
     send_until(t);
-    if (bar) bar->update(reader.progress());
+    if (bar && imu_last > t_start) bar->update(std::clamp(ns_to_s(t - t_start) / ns_to_s(imu_last - t_start), 0.0, 1.0));
   }
   send_until(INT64_MAX);
   if (bar) bar->finish();
@@ -255,6 +253,7 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
                       {"stall_images", stall_images},
                       {"camera_stalls", stall_images.empty() ? 0 : 1}};
   report["images_unreadable"] = unreadable;
+  if (!opt.fast) report["max_lag_ms"] = max_lag_ms;
   report["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return report;
 }

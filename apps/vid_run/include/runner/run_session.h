@@ -68,14 +68,23 @@ class RunSession {
   /// @brief Called when the pipeline has processed a camera frame (after timing.csv got its row).
   void set_frame_listener(std::function<void(const FrameTimings&)> cb) { on_frame_ = std::move(cb); }
 
+  /// @brief Status of the current estimator.
   FilterStatus status() const;
+  /// @brief The current estimator's status message.
   const std::string& status_message() const;
+  /// @brief The resolved configuration (mode and init decided).
   const RunConfig& config() const { return cfg_; }
+  /// @brief True in dynamics mode (force estimated).
   bool dynamics() const { return cfg_.estimator.mode == PropagationMode::kDynamics; }
+  /// @brief Where the mode came from ("flag --mode", the preset file, "auto (...)").
   const std::string& mode_source() const { return mode_source_; }
+  /// @brief restart() calls so far.
   int restarts() const { return restarts_; }
+  /// @brief Camera frames pushed (also those skipped for a bad image).
   long camera_frames() const { return frames_; }
+  /// @brief feat0 frames pushed.
   long feature_frames() const { return feature_frames_; }
+  /// @brief Estimates emitted so far.
   long estimates() const { return estimates_; }
   /// @brief Camera ids the frontend tracks (images of other cameras are ignored).
   int tracked_cameras() const;
