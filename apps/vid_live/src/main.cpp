@@ -81,9 +81,11 @@ int main(int argc, char** argv) {
     lcm::LCM input(url);
     if (!input.good()) throw std::runtime_error(url + ": LCM cannot open this URL");
     if (publish_url.empty() && !vid::live::is_log_url(url)) publish_url = url;
+    // The worker publishes while this thread handles input: a separate LCM instance for output
+    // (same transport), except memq://, whose queue lives inside one instance.
     std::unique_ptr<lcm::LCM> output;
     lcm::LCM* publisher = nullptr;
-    if (publish_url == url) {
+    if (publish_url == url && url.rfind("memq://", 0) == 0) {
       publisher = &input;
     } else if (!publish_url.empty()) {
       output = std::make_unique<lcm::LCM>(publish_url);
