@@ -35,7 +35,8 @@ struct ControlOutput {
   double thrust_N = 0.0;                         ///< collective thrust along z_I
   Eigen::Vector3d w_I = Eigen::Vector3d::Zero(); ///< body rate command [rad/s]
   Eigen::Vector3d a_cmd_W = Eigen::Vector3d::Zero();  ///< acceleration the MPC asked for
-  bool saturated = false;  ///< an acceleration, tilt, thrust or rate bound was active
+  /// A bound was active: acceleration anywhere in the MPC horizon, or tilt, thrust or rate now.
+  bool saturated = false;
 };
 
 /// @brief MPC tracking controller with a nominal (possibly wrong) mass.
