@@ -88,7 +88,7 @@ def clean(seq, work):
 
 def test_live_on_replayed_log_matches_vid_run(seq, work, clean):
     _, report, s = clean
-    assert s["status"] == "ok" and s["health"] == "tracking"
+    assert s["status"] == "ok" and s["health"] == "tracking" and s["input_end"] == "eof"
     run_rows = tum_rows(work / "run" / "trajectory_tum.txt")
     live_rows = tum_rows(work / "live_clean" / "trajectory_tum.txt")
     assert len(run_rows) > 0.9 * 400 * (END_S - 1.5)  # initialized early, estimates at IMU rate

@@ -371,8 +371,11 @@ nlohmann::json LiveEngine::summary() const {
   return s;
 }
 
-void LiveEngine::write_summary() const {
-  if (opt_.session.out_dir) runner::write_summary(*opt_.session.out_dir, summary());
+void LiveEngine::write_summary(const nlohmann::json& extra) const {
+  if (!opt_.session.out_dir) return;
+  nlohmann::json s = summary();
+  s.update(extra);
+  runner::write_summary(*opt_.session.out_dir, s);
 }
 
 }  // namespace vid::live

@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
     const std::string end = vid::live::run_lcm_loop(
         input, url, [&] { return g_stop.load() || engine.failed(); }, idle_s, engine.message_count());
     engine.finish();  // throws (one-line error, exit 1) when the estimator stopped on an error
-    engine.write_summary();
+    engine.write_summary({{"input_end", end}});  // eof | stopped (SIGINT/SIGTERM) | idle
     const auto s = engine.summary();
     spdlog::info("input ended ({}): {} states published, health {}, {} re-initializations", end,
                  engine.published_states(), s["health"].get<std::string>(), s["reinit_count"].get<int>());

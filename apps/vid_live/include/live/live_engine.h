@@ -69,8 +69,8 @@ class LiveEngine {
   /// @brief summary.json content (session summary + live fields). Call after finish(): the
   /// worker owns the session while it runs.
   nlohmann::json summary() const;
-  /// @brief Write DIR/summary.json when an output folder was given.
-  void write_summary() const;
+  /// @brief Write DIR/summary.json (summary() plus @p extra's fields) when an output folder was given.
+  void write_summary(const nlohmann::json& extra = nlohmann::json::object()) const;
   /// @brief Health now.
   Health health() const;
   /// @brief Estimates published so far.
