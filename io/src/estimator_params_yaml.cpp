@@ -33,6 +33,7 @@ const DoubleField kDoubles[] = {
     VID_FIELD(imu_rate_hz),
     VID_FIELD(thrust_noise_density),
     VID_FIELD(force_random_walk),
+    VID_FIELD(force_rate_random_walk),
     VID_FIELD(rotor_gap_s),
     VID_FIELD(rotor_gap_noise_scale),
     VID_FIELD(imu_gap_s),
@@ -53,6 +54,7 @@ const DoubleField kDoubles[] = {
     VID_FIELD(init_sigma_gyro_bias),
     VID_FIELD(init_sigma_accel_bias),
     VID_FIELD(init_sigma_force),
+    VID_FIELD(init_sigma_force_rate),
     VID_FIELD(max_velocity),
     VID_FIELD(max_position_sigma),
 };
@@ -89,6 +91,14 @@ EstimatorParams from_map(const YamlMap& y) {
       y.fail("init_mode", "expected static or groundtruth, got '" + s + "'");
     }
   }
+  if (y.has("force_frame")) {
+    const std::string s = y.get_string("force_frame");
+    try {
+      p.force_frame = force_frame_from_string(s);
+    } catch (const std::invalid_argument&) {
+      y.fail("force_frame", "expected body or world, got '" + s + "'");
+    }
+  }
   for (const auto& f : kDoubles) p.*f.member = y.get_double(f.key, p.*f.member);
   for (const auto& f : kInts) p.*f.member = y.get_int(f.key, p.*f.member);
   for (const auto& f : kBools) p.*f.member = y.get_bool(f.key, p.*f.member);
@@ -112,7 +122,8 @@ EstimatorParams load_estimator_params_string(const std::string& text, const std:
 std::string to_yaml(const EstimatorParams& p) {
   std::ostringstream os;
   os << "mode: " << to_string(p.mode) << "\n"
-     << "init_mode: " << to_string(p.init_mode) << "\n";
+     << "init_mode: " << to_string(p.init_mode) << "\n"
+     << "force_frame: " << to_string(p.force_frame) << "\n";
   for (const auto& f : kInts) os << f.key << ": " << p.*f.member << "\n";
   for (const auto& f : kBools) os << f.key << ": " << (p.*f.member ? "true" : "false") << "\n";
   for (const auto& f : kDoubles) os << f.key << ": " << format_double(p.*f.member) << "\n";

@@ -257,6 +257,9 @@ TEST(EstimatorParamsYaml, RoundTripEveryFieldChanged) {
   p.imu_rate_hz = 200.5;
   p.thrust_noise_density = 0.07;
   p.force_random_walk = 0.3;
+  p.force_frame = ForceFrame::kWorld;
+  p.force_rate_random_walk = 0.25;
+  p.init_sigma_force_rate = 0.35;
   p.rotor_gap_s = 0.03;
   p.rotor_gap_noise_scale = 7;
   p.imu_gap_s = 0.021;
@@ -291,6 +294,7 @@ TEST(EstimatorParamsYaml, RoundTripEveryFieldChanged) {
   EXPECT_EQ(to_yaml(q), os.str());
   EXPECT_EQ(q.mode, p.mode);
   EXPECT_EQ(q.init_mode, p.init_mode);
+  EXPECT_EQ(q.force_frame, p.force_frame);
   EXPECT_EQ(q.window_size, 17);
   EXPECT_EQ(q.chi2_multiplier, 1.0 / 3.0);
   EXPECT_FALSE(q.use_stereo);
@@ -303,6 +307,8 @@ TEST(EstimatorParamsYaml, RoundTripEveryFieldChanged) {
             "e.yaml:2: unknown key 'window_sise'");
   EXPECT_EQ(config_error([] { load_estimator_params_string("mode: fast\n", "e.yaml"); }),
             "e.yaml:1: key 'mode': expected imu or dynamics, got 'fast'");
+  EXPECT_EQ(config_error([] { load_estimator_params_string("force_frame: up\n", "e.yaml"); }),
+            "e.yaml:1: key 'force_frame': expected body or world, got 'up'");
   EXPECT_EQ(config_error([] { load_estimator_params_string("window_size: 2.5\n", "e.yaml"); }),
             "e.yaml:1: key 'window_size': expected an integer, got '2.5'");
   EXPECT_EQ(config_error([] { load_estimator_params_string("use_fej: maybe\n", "e.yaml"); }),
@@ -310,12 +316,12 @@ TEST(EstimatorParamsYaml, RoundTripEveryFieldChanged) {
 }
 
 TEST(EstimatorParamsYaml, LoaderKnowsEveryField) {
-  // Drift guard: the loader's tables hold 30 doubles, 3 ints, 6 bools and 2 enums (41 keys),
-  // which is 296 bytes with padding. If vio_core adds or removes a field, this fails until the tables in
+  // Drift guard: the loader's tables hold 32 doubles, 3 ints, 6 bools and 3 enums (44 keys),
+  // which is 320 bytes with padding. If vio_core adds or removes a field, this fails until the tables in
   // io/src/estimator_params_yaml.cpp (and this count) are updated.
   const std::string y = to_yaml(EstimatorParams{});
-  EXPECT_EQ(std::count(y.begin(), y.end(), '\n'), 41);
-  EXPECT_EQ(sizeof(EstimatorParams), 296u)
+  EXPECT_EQ(std::count(y.begin(), y.end(), '\n'), 44);
+  EXPECT_EQ(sizeof(EstimatorParams), 320u)
       << "EstimatorParams changed: update the field tables in io/src/estimator_params_yaml.cpp";
 }
 

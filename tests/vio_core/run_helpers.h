@@ -43,11 +43,11 @@ inline RunResult run_pipeline(const SynthConfig& c, const SynthData& d, const Pi
     r.t = ns_to_s(e.t_ns);
     r.e_theta = so3::boxminus(e.x.q_WI, s.q);
     r.e_p = e.x.p_WI - s.p;
-    r.e_F_I = e.x.F_ext_I - s.F_I;
+    r.e_F_I = e.F_ext_I - s.F_I;
     r.P_theta = e.cov_theta;
     r.P_p = e.cov_p;
-    r.P_F = e.cov_F;
-    r.F_W_est = e.x.q_WI * e.x.F_ext_I;
+    r.P_F = e.cov_F_I;
+    r.F_W_est = e.F_ext_W;
     r.F_W_true = s.F_W;
     out.errors.push_back(r);
   });
@@ -66,7 +66,7 @@ inline RunResult run_pipeline(const SynthConfig& c, const SynthData& d, const Pi
       x0.v_WI += dx.segment<3>(imu_idx::kV);
       x0.b_g = c.b_g + dx.segment<3>(imu_idx::kBg);
       x0.b_a = c.b_a + dx.segment<3>(imu_idx::kBa);
-      if (P0.rows() == 18) x0.F_ext_I += dx.segment<3>(imu_idx::kF);
+      if (P0.rows() == 18) x0.F_ext += dx.segment<3>(imu_idx::kF);
     }
     pipe.initialize(0, x0, P0);
   }

@@ -101,6 +101,10 @@ SimMetrics run_on_dataset(const std::filesystem::path& folder, PropagationMode m
   if (!cal.cameras.empty()) p.pixel_noise_px = 0.5;
   if (const char* px = std::getenv("VIO_CORE_PIXEL_NOISE")) p.pixel_noise_px = std::atof(px);
   if (std::getenv("VIO_CORE_NO_FEJ")) p.use_fej = false;
+  if (const char* ws = std::getenv("VIO_CORE_WINDOW")) p.window_size = std::atoi(ws);
+  if (const char* sb = std::getenv("VIO_CORE_INIT_SIGMA_BA")) p.init_sigma_accel_bias = std::atof(sb);
+  if (const char* fr = std::getenv("VIO_CORE_FORCE_RATE_RW")) p.force_rate_random_walk = std::atof(fr);
+  if (const char* ff = std::getenv("VIO_CORE_FORCE_FRAME")) p.force_frame = force_frame_from_string(ff);
 
   Pipeline pipe(pc);
   std::map<TimeNs, EstimateOutput> est;
@@ -164,11 +168,12 @@ SimMetrics run_on_dataset(const std::filesystem::path& folder, PropagationMode m
         std::fprintf(dump, "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,%.5f,%.5f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n",
                      (g.t_ns - gt.front().t_ns) * 1e-9, e->x.p_WI.x(), e->x.p_WI.y(), e->x.p_WI.z(),
                      g.p_WI.x(), g.p_WI.y(), g.p_WI.z(), dth.x(), dth.y(), dth.z(),
-                     (e->x.v_WI - g.v_WI).norm(), (e->x.b_a - g.b_a).norm(), e->x.F_ext_I.x(),
-                     e->x.F_ext_I.y(), e->x.F_ext_I.z(), (e->x.b_g - g.b_g).norm());
-        const Eigen::Vector3d F_W = e->x.q_WI * e->x.F_ext_I;
-        std::fprintf(dump, "F,%.6f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f\n", (g.t_ns - gt.front().t_ns) * 1e-9, F_W.x(), F_W.y(), F_W.z(),
-                     e->x.b_a.x() - g.b_a.x(), e->x.b_a.y() - g.b_a.y(), e->x.b_a.z() - g.b_a.z());
+                     (e->x.v_WI - g.v_WI).norm(), (e->x.b_a - g.b_a).norm(), e->F_ext_I.x(),
+                     e->F_ext_I.y(), e->F_ext_I.z(), (e->x.b_g - g.b_g).norm());
+        const Eigen::Vector3d F_W = e->F_ext_W;
+        std::fprintf(dump, "F,%.6f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.6f,%.6f,%.5f,%.5f,%.5f\n", (g.t_ns - gt.front().t_ns) * 1e-9, F_W.x(), F_W.y(), F_W.z(),
+                     e->x.b_a.x() - g.b_a.x(), e->x.b_a.y() - g.b_a.y(), e->x.b_a.z() - g.b_a.z(),
+                     e->sigma(0), e->sigma(1), e->sigma(2), e->sigma(12), e->sigma(13), e->sigma(14));
       }
       pe.push_back(e->x.p_WI);
       pg.push_back(g.p_WI);
@@ -180,7 +185,7 @@ SimMetrics run_on_dataset(const std::filesystem::path& folder, PropagationMode m
   long n = 0;
   for (const ForceSample& f : forces) {
     if (const EstimateOutput* e = nearest(f.t_ns)) {
-      const Eigen::Vector3d F_W = e->x.q_WI * e->x.F_ext_I;
+      const Eigen::Vector3d F_W = e->F_ext_W;
       sum += (F_W - f.f_W_N / pc.vehicle.mass_kg).squaredNorm();
       ++n;
     }

@@ -1,5 +1,6 @@
-// Propagation Jacobians Phi and G (both modes) and the accelerometer measurement Jacobian
-// against central numeric differentiation of the discrete maps.
+// Propagation Jacobians Phi and G (imu mode; dynamics mode with body- or world-frame force,
+// with and without the force-rate state) and the accelerometer measurement Jacobian against
+// central numeric differentiation of the discrete maps.
 #include <gtest/gtest.h>
 
 #include "vio_core/ekf_update.h"
@@ -12,35 +13,43 @@ using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-ImuState perturb(const ImuState& x, const VectorXd& dx, bool dyn) {
+// dx of size 15 (imu), 18 (force) or 21 (force + force rate).
+ImuState perturb(const ImuState& x, const VectorXd& dx) {
+  const bool dyn = dx.size() >= 18;
   ImuState y = x;
   y.q_WI = so3::boxplus(x.q_WI, dx.segment<3>(imu_idx::kTheta));
   y.p_WI += dx.segment<3>(imu_idx::kP);
   y.v_WI += dx.segment<3>(imu_idx::kV);
   y.b_g += dx.segment<3>(imu_idx::kBg);
   y.b_a += dx.segment<3>(imu_idx::kBa);
-  if (dyn) y.F_ext_I += dx.segment<3>(imu_idx::kF);
+  if (dyn) y.F_ext += dx.segment<3>(imu_idx::kF);
+  if (dx.size() == 21) y.F_dot += dx.segment<3>(imu_idx::kFdot);
   return y;
 }
 
-VectorXd difference(const ImuState& a, const ImuState& b, bool dyn) {
-  VectorXd d(dyn ? 18 : 15);
+VectorXd difference(const ImuState& a, const ImuState& b, int dim) {
+  const bool dyn = dim >= 18;
+  VectorXd d(dim);
   d.segment<3>(imu_idx::kTheta) = so3::boxminus(a.q_WI, b.q_WI);
   d.segment<3>(imu_idx::kP) = a.p_WI - b.p_WI;
   d.segment<3>(imu_idx::kV) = a.v_WI - b.v_WI;
   d.segment<3>(imu_idx::kBg) = a.b_g - b.b_g;
   d.segment<3>(imu_idx::kBa) = a.b_a - b.b_a;
-  if (dyn) d.segment<3>(imu_idx::kF) = a.F_ext_I - b.F_ext_I;
+  if (dyn) d.segment<3>(imu_idx::kF) = a.F_ext - b.F_ext;
+  if (dim == 21) d.segment<3>(imu_idx::kFdot) = a.F_dot - b.F_dot;
   return d;
 }
 
-DiscreteNoise noise_from(const VectorXd& n, bool dyn) {
+// n of size 12 (imu), 15 (force) or 18 (force + force rate).
+DiscreteNoise noise_from(const VectorXd& n) {
+  const bool dyn = n.size() >= 15;
   DiscreteNoise w;
   w.n_g = n.segment<3>(noise_idx::kNg);
   w.n_a = n.segment<3>(noise_idx::kNa);
   w.w_g = n.segment<3>(noise_idx::kWg);
   w.w_a = n.segment<3>(noise_idx::kWa);
   if (dyn) w.w_F = n.segment<3>(noise_idx::kWF);
+  if (n.size() == 18) w.w_Fd = n.segment<3>(noise_idx::kWFd);
   return w;
 }
 
@@ -51,7 +60,8 @@ ImuState sample_state() {
   x.v_WI = Vector3d(0.8, 0.3, -0.4);
   x.b_g = Vector3d(0.01, -0.02, 0.015);
   x.b_a = Vector3d(0.1, -0.05, 0.2);
-  x.F_ext_I = Vector3d(0.5, -0.3, 0.2);
+  x.F_ext = Vector3d(0.5, -0.3, 0.2);
+  x.F_dot = Vector3d(-0.7, 0.4, 0.9);
   return x;
 }
 
@@ -80,36 +90,38 @@ void expect_blocks_near(const MatrixXd& A, const MatrixXd& N, double rel) {
   }
 }
 
-void check_mode(PropagationMode mode, double dt) {
+void check_mode(PropagationMode mode, double dt, ForceFrame frame = ForceFrame::kBody,
+                bool rate = false) {
   const bool dyn = mode == PropagationMode::kDynamics;
-  const int d = dyn ? 18 : 15;
-  const int nn = dyn ? 15 : 12;
+  const int d = dyn ? (rate ? 21 : 18) : 15;
+  const int nn = dyn ? (rate ? 18 : 15) : 12;
   const Vector3d g(0, 0, -9.81);
-  const ImuState x = sample_state();
+  ImuState x = sample_state();
+  if (!rate) x.F_dot.setZero();
   const ImuInterval u = sample_interval(dyn, dt);
-  const ImuState y = propagate_mean(x, u, mode, g);
+  const ImuState y = propagate_mean(x, u, mode, g, {}, frame);
   ImuFej fej;
   fej.q_WI = x.q_WI;
   fej.p_WI = x.p_WI;
   fej.v_WI = x.v_WI;
   MatrixXd Phi, G;
-  propagation_jacobians(x, fej, y, u, mode, g, &Phi, &G);
+  propagation_jacobians(x, fej, y, u, mode, g, &Phi, &G, frame, rate);
 
   const double h = 1e-6;
   MatrixXd Phi_num(d, d), G_num(d, nn);
   for (int i = 0; i < d; ++i) {
     VectorXd e = VectorXd::Zero(d);
     e(i) = h;
-    const ImuState yp = propagate_mean(perturb(x, e, dyn), u, mode, g);
-    const ImuState ym = propagate_mean(perturb(x, -e, dyn), u, mode, g);
-    Phi_num.col(i) = (difference(yp, y, dyn) - difference(ym, y, dyn)) / (2 * h);
+    const ImuState yp = propagate_mean(perturb(x, e), u, mode, g, {}, frame);
+    const ImuState ym = propagate_mean(perturb(x, -e), u, mode, g, {}, frame);
+    Phi_num.col(i) = (difference(yp, y, d) - difference(ym, y, d)) / (2 * h);
   }
   for (int i = 0; i < nn; ++i) {
     VectorXd e = VectorXd::Zero(nn);
     e(i) = h;
-    const ImuState yp = propagate_mean(x, u, mode, g, noise_from(e, dyn));
-    const ImuState ym = propagate_mean(x, u, mode, g, noise_from(-e, dyn));
-    G_num.col(i) = (difference(yp, y, dyn) - difference(ym, y, dyn)) / (2 * h);
+    const ImuState yp = propagate_mean(x, u, mode, g, noise_from(e), frame);
+    const ImuState ym = propagate_mean(x, u, mode, g, noise_from(-e), frame);
+    G_num.col(i) = (difference(yp, y, d) - difference(ym, y, d)) / (2 * h);
   }
   expect_blocks_near(Phi, Phi_num, 1e-6);
   expect_blocks_near(G, G_num, 1e-6);
@@ -119,10 +131,36 @@ TEST(PropagationJacobians, ImuModeMatchesNumeric) { check_mode(PropagationMode::
 TEST(PropagationJacobians, DynamicsModeMatchesNumeric) {
   check_mode(PropagationMode::kDynamics, 0.0025);
 }
+TEST(PropagationJacobians, WorldFrameForceMatchesNumeric) {
+  check_mode(PropagationMode::kDynamics, 0.0025, ForceFrame::kWorld);
+}
+TEST(PropagationJacobians, ForceRateStateMatchesNumericBothFrames) {
+  check_mode(PropagationMode::kDynamics, 0.0025, ForceFrame::kBody, true);
+  check_mode(PropagationMode::kDynamics, 0.0025, ForceFrame::kWorld, true);
+}
 // Long intervals (gaps) exercise the non-small-angle branches.
-TEST(PropagationJacobians, LongIntervalBothModes) {
+TEST(PropagationJacobians, LongIntervalEveryModel) {
   check_mode(PropagationMode::kImu, 0.5);
   check_mode(PropagationMode::kDynamics, 0.5);
+  check_mode(PropagationMode::kDynamics, 0.5, ForceFrame::kWorld, true);
+  check_mode(PropagationMode::kDynamics, 0.5, ForceFrame::kBody, true);
+}
+
+TEST(PropagationMean, ForceRateIntegratesTheForceRamp) {
+  // Zero rate, thrust exactly cancels gravity: the world-frame force ramp F_k + F_dot t alone
+  // accelerates the vehicle, so v gains F dt + F_dot dt^2 / 2 and F gains F_dot dt.
+  ImuState x;
+  x.F_ext = Vector3d(0.3, -0.2, 0.1);
+  x.F_dot = Vector3d(1.0, 2.0, -0.5);
+  ImuInterval u;
+  u.dt = 0.2;
+  u.drive0 = u.drive1 = Vector3d(0, 0, 9.81);
+  const ImuState y = propagate_mean(x, u, PropagationMode::kDynamics, Vector3d(0, 0, -9.81), {},
+                                    ForceFrame::kWorld);
+  EXPECT_LT((y.v_WI - (x.F_ext * 0.2 + x.F_dot * 0.02)).norm(), 1e-12);
+  EXPECT_LT((y.p_WI - (x.F_ext * 0.02 + x.F_dot * (0.008 / 6.0))).norm(), 1e-12);
+  EXPECT_LT((y.F_ext - (x.F_ext + x.F_dot * 0.2)).norm(), 1e-12);
+  EXPECT_EQ(y.F_dot, x.F_dot);
 }
 
 TEST(PropagationMean, ConstantAccelerationIsExact) {
@@ -138,22 +176,26 @@ TEST(PropagationMean, ConstantAccelerationIsExact) {
   EXPECT_LT((y.p_WI - (x.v_WI * 0.3 + 0.5 * a * 0.09)).norm(), 1e-12);
 }
 
-TEST(AccelMeasurement, JacobianMatchesNumeric) {
-  // h(x) = T_m + F_ext + b_a; the update uses H = [0 .. I(b_a) I(F)].
+void check_accel_jacobian(ForceFrame frame) {
+  // h(x) = T_m + F_I + b_a with F_I = F_ext (body) or R^T F_ext (world).
   const ImuState x = sample_state();
   const Vector3d Tm(0, 0, 9.9);
-  MatrixXd H_num(3, 18);
+  MatrixXd H_num(3, 21);
   const double h = 1e-6;
-  for (int i = 0; i < 18; ++i) {
-    VectorXd e = VectorXd::Zero(18);
+  for (int i = 0; i < 21; ++i) {
+    VectorXd e = VectorXd::Zero(21);
     e(i) = h;
-    H_num.col(i) = (predict_accel(perturb(x, e, true), Tm) - predict_accel(perturb(x, -e, true), Tm)) /
-                   (2 * h);
+    H_num.col(i) = (predict_accel(perturb(x, e), Tm, frame) - predict_accel(perturb(x, -e), Tm, frame)) / (2 * h);
   }
-  MatrixXd H = MatrixXd::Zero(3, 18);
+  const AccelJacobian J = accel_jacobian(x, x.q_WI, frame);
+  MatrixXd H = MatrixXd::Zero(3, 21);
+  H.block<3, 3>(0, imu_idx::kTheta) = J.H_theta;
   H.block<3, 3>(0, imu_idx::kBa).setIdentity();
-  H.block<3, 3>(0, imu_idx::kF).setIdentity();
-  EXPECT_LT((H - H_num).norm(), 1e-6 * H.norm());
+  H.block<3, 3>(0, imu_idx::kF) = J.H_F;
+  EXPECT_LT((H - H_num).norm(), 1e-6 * H.norm()) << "analytic\n" << H << "\nnumeric\n" << H_num;
 }
+
+TEST(AccelMeasurement, JacobianMatchesNumericBodyForce) { check_accel_jacobian(ForceFrame::kBody); }
+TEST(AccelMeasurement, JacobianMatchesNumericWorldForce) { check_accel_jacobian(ForceFrame::kWorld); }
 
 }  // namespace

@@ -23,11 +23,12 @@ MatrixXd random_spd(int n, unsigned seed) {
   return 0.1 * A * A.transpose() / n + 0.01 * MatrixXd::Identity(n, n);
 }
 
-FilterState make_state(bool dyn) {
-  FilterState s(dyn);
+FilterState make_state(bool dyn, ForceFrame frame = ForceFrame::kBody, bool rate = false) {
+  FilterState s(dyn, frame, rate);
   ImuState x;
   x.q_WI = so3::quat_exp(Vector3d(0.1, 0.2, -0.3));
   x.p_WI = Vector3d(1, 2, 3);
+  if (dyn) x.F_ext = Vector3d(0.4, -0.6, 0.3);
   s.initialize(1000, x, random_spd(s.imu_dim(), 3));
   return s;
 }
@@ -139,15 +140,17 @@ TEST(EkfUpdate, SparseGenericUpdateMatchesDense) {
   EXPECT_EQ((s.P() - P_after).norm(), 0.0);
 }
 
-TEST(EkfUpdate, AccelUpdateMatchesDenseUpdate) {
-  FilterState s = make_state(true);
+void check_accel_update(ForceFrame frame, bool rate) {
+  FilterState s = make_state(true, frame, rate);
   for (int i = 0; i < 3; ++i) s.augment_clone();
   s.P() = random_spd(s.dim(), 13);
   const Vector3d Tm(0, 0, 9.7), a_m(0.2, -0.1, 9.9);
+  const AccelJacobian J = accel_jacobian(s.imu(), s.imu_fej().q_WI, frame);
   MatrixXd H = MatrixXd::Zero(3, s.dim());
+  H.block<3, 3>(0, imu_idx::kTheta) = J.H_theta;
   H.block<3, 3>(0, imu_idx::kBa).setIdentity();
-  H.block<3, 3>(0, imu_idx::kF).setIdentity();
-  const VectorXd r = a_m - predict_accel(s.imu(), Tm);
+  H.block<3, 3>(0, imu_idx::kF) = J.H_F;
+  const VectorXd r = a_m - predict_accel(s.imu(), Tm, frame);
   MatrixXd P_ref = s.P();
   VectorXd dx_ref;
   dense_update(P_ref, H, r, 0.04 * MatrixXd::Identity(3, 3), &dx_ref);
@@ -156,11 +159,40 @@ TEST(EkfUpdate, AccelUpdateMatchesDenseUpdate) {
   ASSERT_TRUE(res.applied);
   EXPECT_LT((s.P() - P_ref).norm(), 1e-12);
   EXPECT_EQ((s.P() - s.P().transpose()).norm(), 0.0);
-  EXPECT_LT((s.imu().F_ext_I - x0.F_ext_I - dx_ref.segment<3>(imu_idx::kF)).norm(), 1e-12);
+  EXPECT_LT((s.imu().F_ext - x0.F_ext - dx_ref.segment<3>(imu_idx::kF)).norm(), 1e-12);
   EXPECT_LT((s.imu().v_WI - x0.v_WI - dx_ref.segment<3>(imu_idx::kV)).norm(), 1e-12);
+  if (rate) {
+    EXPECT_LT((s.imu().F_dot - x0.F_dot - dx_ref.segment<3>(imu_idx::kFdot)).norm(), 1e-12);
+  }
   // chi2 gating: an absurd reading is rejected
   const UpdateResult bad = accel_update(s, a_m + Vector3d(100, 0, 0), Tm, 0.04, 11.345);
   EXPECT_FALSE(bad.applied);
+}
+
+TEST(EkfUpdate, AccelUpdateMatchesDenseUpdate) { check_accel_update(ForceFrame::kBody, false); }
+TEST(EkfUpdate, AccelUpdateMatchesDenseUpdateWorldForceWithRate) {
+  check_accel_update(ForceFrame::kWorld, true);
+}
+
+TEST(FilterState, ForceRateStateExtendsTheImuBlock) {
+  EXPECT_EQ(FilterState(true, ForceFrame::kWorld, true).imu_dim(), 21);
+  EXPECT_EQ(FilterState(true, ForceFrame::kWorld, false).imu_dim(), 18);
+  EXPECT_EQ(FilterState(false, ForceFrame::kWorld, true).imu_dim(), 15);  // no force, no rate
+  FilterState s = make_state(true, ForceFrame::kWorld, true);
+  s.augment_clone();
+  EXPECT_EQ(s.clones().front().cov_index, 21);
+}
+
+TEST(ForceFrames, BodyAndWorldViewsAgree) {
+  ImuState x;
+  x.q_WI = so3::quat_exp(Vector3d(0.2, -0.4, 1.1));
+  const Vector3d F_I(0.5, -1.0, 0.25);
+  set_force_from_body(x, ForceFrame::kWorld, F_I);
+  EXPECT_LT((force_in_body(x, ForceFrame::kWorld) - F_I).norm(), 1e-15);
+  EXPECT_LT((force_in_world(x, ForceFrame::kWorld) - x.q_WI * F_I).norm(), 1e-15);
+  set_force_from_body(x, ForceFrame::kBody, F_I);
+  EXPECT_EQ(x.F_ext, F_I);
+  EXPECT_LT((force_in_world(x, ForceFrame::kBody) - x.q_WI * F_I).norm(), 1e-15);
 }
 
 TEST(EkfUpdate, Chi2Quantiles) {

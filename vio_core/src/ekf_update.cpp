@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "vio_core/so3.h"
+
 namespace vid {
 
 double chi2_quantile(int dof, double prob) {
@@ -83,8 +85,22 @@ UpdateResult ekf_update(FilterState& state, const Eigen::MatrixXd& H, const Eige
   return ekf_update_columns(state, cols, H_cols, r, R, chi2_threshold);
 }
 
-Eigen::Vector3d predict_accel(const ImuState& x, const Eigen::Vector3d& T_m) {
-  return T_m + x.F_ext_I + x.b_a;
+Eigen::Vector3d predict_accel(const ImuState& x, const Eigen::Vector3d& T_m, ForceFrame frame) {
+  return T_m + force_in_body(x, frame) + x.b_a;
+}
+
+AccelJacobian accel_jacobian(const ImuState& x, const Eigen::Quaterniond& q_WI_lin, ForceFrame frame) {
+  AccelJacobian J;
+  if (frame == ForceFrame::kBody) {
+    J.H_F.setIdentity();
+    J.H_theta.setZero();
+  } else {
+    // h = T_m + (R Exp(dtheta))^T F_W + b_a = T_m + R^T F_W + [R^T F_W]x dtheta + ...
+    const Eigen::Matrix3d R = q_WI_lin.toRotationMatrix();
+    J.H_F = R.transpose();
+    J.H_theta = so3::skew(R.transpose() * x.F_ext);
+  }
+  return J;
 }
 
 UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
@@ -92,13 +108,25 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   if (!state.with_force()) throw std::logic_error("accel_update needs the F_ext state (dynamics mode)");
   UpdateResult res;
   Eigen::MatrixXd& P = state.P();
-  // H = [.. I(b_a) .. I(F) ..] => P H^T = P[:, ba] + P[:, F]; S = H P H^T + R.
   thread_local Eigen::MatrixXd PHt;
-  PHt = P.middleCols<3>(imu_idx::kBa) + P.middleCols<3>(imu_idx::kF);
-  Eigen::Matrix3d S = PHt.middleRows<3>(imu_idx::kBa) + PHt.middleRows<3>(imu_idx::kF);
+  Eigen::Matrix3d S;
+  if (state.force_frame() == ForceFrame::kBody) {
+    // H = [.. I(b_a) .. I(F) ..] => P H^T = P[:, ba] + P[:, F]; S = H P H^T + R.
+    PHt = P.middleCols<3>(imu_idx::kBa) + P.middleCols<3>(imu_idx::kF);
+    S = PHt.middleRows<3>(imu_idx::kBa) + PHt.middleRows<3>(imu_idx::kF);
+  } else {
+    // World-frame force: H_theta = [R^T F_W]x, H_F = R^T, H_ba = I, linearized at the first
+    // estimate of R so that H annihilates the yaw direction of the propagation's nullspace.
+    const AccelJacobian J = accel_jacobian(state.imu(), state.imu_fej().q_WI, ForceFrame::kWorld);
+    PHt = P.middleCols<3>(imu_idx::kBa);
+    PHt.noalias() += P.middleCols<3>(imu_idx::kTheta) * J.H_theta.transpose();
+    PHt.noalias() += P.middleCols<3>(imu_idx::kF) * J.H_F.transpose();
+    S = PHt.middleRows<3>(imu_idx::kBa) + J.H_theta * PHt.middleRows<3>(imu_idx::kTheta) +
+        J.H_F * PHt.middleRows<3>(imu_idx::kF);
+  }
   S = 0.5 * (S + S.transpose()).eval();
   S.diagonal().array() += noise_var;
-  const Eigen::Vector3d r = a_m - predict_accel(state.imu(), T_m);
+  const Eigen::Vector3d r = a_m - predict_accel(state.imu(), T_m, state.force_frame());
   Eigen::LLT<Eigen::Matrix3d> llt(S);
   if (llt.info() != Eigen::Success) return res;
   res.chi2 = r.dot(llt.solve(r));

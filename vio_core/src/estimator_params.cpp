@@ -16,6 +16,14 @@ PropagationMode mode_from_string(const std::string& s) {
   throw std::invalid_argument("unknown propagation mode '" + s + "' (expected imu or dynamics)");
 }
 
+std::string to_string(ForceFrame frame) { return frame == ForceFrame::kBody ? "body" : "world"; }
+
+ForceFrame force_frame_from_string(const std::string& s) {
+  if (s == "body") return ForceFrame::kBody;
+  if (s == "world") return ForceFrame::kWorld;
+  throw std::invalid_argument("unknown force frame '" + s + "' (expected body or world)");
+}
+
 std::string to_string(InitMode mode) {
   return mode == InitMode::kStatic ? "static" : "groundtruth";
 }

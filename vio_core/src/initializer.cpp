@@ -25,7 +25,8 @@ Eigen::Quaterniond gravity_aligned_orientation(const Eigen::Vector3d& f_I) {
 
 Eigen::MatrixXd initial_covariance(const EstimatorParams& p, const Eigen::Quaterniond& q_WI) {
   const bool dyn = p.mode == PropagationMode::kDynamics;
-  const int d = dyn ? 18 : 15;
+  const bool rate = dyn && p.force_rate_random_walk > 0.0;
+  const int d = dyn ? (rate ? 21 : 18) : 15;
   Eigen::MatrixXd P = Eigen::MatrixXd::Zero(d, d);
   // World-frame orientation covariance diag(rp, rp, yaw) -> body right perturbation R^T C R.
   const Eigen::Matrix3d R = q_WI.toRotationMatrix();
@@ -38,6 +39,10 @@ Eigen::MatrixXd initial_covariance(const EstimatorParams& p, const Eigen::Quater
   P.block<3, 3>(imu_idx::kBa, imu_idx::kBa).diagonal().setConstant(std::pow(p.init_sigma_accel_bias, 2));
   if (dyn) {
     P.block<3, 3>(imu_idx::kF, imu_idx::kF).diagonal().setConstant(std::pow(p.init_sigma_force, 2));
+  }
+  if (rate) {
+    // The force rate lives in the force's frame; a world-frame rate is isotropic anyway.
+    P.block<3, 3>(imu_idx::kFdot, imu_idx::kFdot).diagonal().setConstant(std::pow(p.init_sigma_force_rate, 2));
   }
   return P;
 }
@@ -95,7 +100,7 @@ std::optional<InitResult> StaticInitializer::add(TimeNs t_ns, const Eigen::Vecto
   r.x.b_g = w_mean;
   if (params_.mode == PropagationMode::kDynamics) {
     // Hover: a ≈ T_m (F_ext ≈ 0); resting on ground: the support is an external force.
-    r.x.F_ext_I = a_mean - T_mean;
+    set_force_from_body(r.x, params_.force_frame, a_mean - T_mean);
   }
   r.P = initial_covariance(params_, r.x.q_WI);
   return r;

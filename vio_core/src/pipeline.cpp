@@ -39,7 +39,8 @@ std::string to_string(FilterStatus s) {
 
 Pipeline::Pipeline(PipelineConfig config)
     : config_(std::move(config)),
-      state_(config_.params.mode == PropagationMode::kDynamics),
+      state_(config_.params.mode == PropagationMode::kDynamics, config_.params.force_frame,
+             config_.params.force_rate_random_walk > 0.0),
       initializer_(config_.params),
       thrust_(seconds_to_ns(config_.params.rotor_gap_s)),
       features_(std::make_unique<msckf::FeatureDatabase>()) {
@@ -138,7 +139,7 @@ void Pipeline::process_imu(const ImuInput& in) {
         x.b_g = last_gt_->b_g;
         x.b_a = last_gt_->b_a;
         if (last_force_W_ && config_.vehicle.mass_kg > 0.0) {
-          x.F_ext_I = x.q_WI.conjugate() * (*last_force_W_ / config_.vehicle.mass_kg);
+          set_force_from_body(x, p.force_frame, x.q_WI.conjugate() * (*last_force_W_ / config_.vehicle.mass_kg));
         }
         // Ground truth is taken at its own time; the small offset to t_in is ignored.
         initialize(in.t, x, initial_covariance(p, x.q_WI));
@@ -313,7 +314,7 @@ void Pipeline::check_divergence(bool full) {
   std::string why;
   const bool mean_finite = x.q_WI.coeffs().allFinite() && x.p_WI.allFinite() &&
                            x.v_WI.allFinite() && x.b_g.allFinite() && x.b_a.allFinite() &&
-                           x.F_ext_I.allFinite();
+                           x.F_ext.allFinite();
   const Eigen::VectorXd diag = state_.P().diagonal();
   if (!mean_finite) {
     why = "state mean is not finite";
@@ -342,8 +343,31 @@ void Pipeline::emit(TimeNs t) {
   o.sigma = state_.P().topLeftCorner(d, d).diagonal().cwiseSqrt();
   o.cov_theta = state_.P().block<3, 3>(imu_idx::kTheta, imu_idx::kTheta);
   o.cov_p = state_.P().block<3, 3>(imu_idx::kP, imu_idx::kP);
-  o.cov_F = state_.with_force() ? Eigen::Matrix3d(state_.P().block<3, 3>(imu_idx::kF, imu_idx::kF))
-                                : Eigen::Matrix3d::Zero();
+  o.F_ext_I.setZero();
+  o.F_ext_W.setZero();
+  o.cov_F_I.setZero();
+  o.cov_F_W.setZero();
+  if (state_.with_force()) {
+    // Force in the other frame: F_W = R F_I or F_I = R^T F_W with R = R_hat Exp(dtheta), so
+    // its covariance takes the orientation error along (J = [d/dtheta, d/dF]).
+    const ForceFrame frame = state_.force_frame();
+    o.F_ext_I = force_in_body(o.x, frame);
+    o.F_ext_W = force_in_world(o.x, frame);
+    const Eigen::Matrix3d R = o.x.q_WI.toRotationMatrix();
+    Eigen::Matrix<double, 3, 6> J;
+    if (frame == ForceFrame::kBody) {
+      J << -R * so3::skew(o.F_ext_I), R;
+    } else {
+      J << so3::skew(o.F_ext_I), R.transpose();
+    }
+    Eigen::Matrix<double, 6, 6> P_tf;
+    P_tf << state_.P().block<3, 3>(imu_idx::kTheta, imu_idx::kTheta), state_.P().block<3, 3>(imu_idx::kTheta, imu_idx::kF),
+        state_.P().block<3, 3>(imu_idx::kF, imu_idx::kTheta), state_.P().block<3, 3>(imu_idx::kF, imu_idx::kF);
+    const Eigen::Matrix3d P_F = state_.P().block<3, 3>(imu_idx::kF, imu_idx::kF);
+    const Eigen::Matrix3d P_other = J * P_tf * J.transpose();
+    o.cov_F_I = frame == ForceFrame::kBody ? P_F : P_other;
+    o.cov_F_W = frame == ForceFrame::kWorld ? P_F : P_other;
+  }
   o.status = status_;
   on_estimate_(o);
 }

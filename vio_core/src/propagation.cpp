@@ -12,22 +12,31 @@ namespace {
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
-// Body-frame acceleration drive at the three RK4 stage times (s = 0, dt/2, dt).
+constexpr double kStage[3] = {0.0, 0.5, 1.0};
+
+// Accelerations at the three RK4 stage times (s = 0, dt/2, dt): the body-frame drive a[i]
+// that is rotated into W, and the world-frame offset o[i] added after rotation.
 struct Drive {
   Vector3d a[3];
+  Vector3d o[3];
 };
 
-Drive body_drive(const ImuState& x, const ImuInterval& u, PropagationMode mode,
-                 const DiscreteNoise& n) {
+// imu: a = a_m - b_a; dynamics: a = T_m (+ F_I(s) in the body-frame force model), and
+// o = g (+ F_W(s) in the world-frame model), with F(s) = F_k + F_dot s (force-rate state).
+Drive stage_drive(const ImuState& x, const ImuInterval& u, PropagationMode mode, ForceFrame frame,
+                  const Vector3d& g_W, const DiscreteNoise& n) {
   Drive d;
   const Vector3d mid = 0.5 * (u.drive0 + u.drive1);
   const Vector3d raw[3] = {u.drive0, mid, u.drive1};
   for (int i = 0; i < 3; ++i) {
+    d.o[i] = g_W;
     if (mode == PropagationMode::kImu) {
       d.a[i] = raw[i] - x.b_a - n.n_a;
-    } else {
-      d.a[i] = raw[i] + x.F_ext_I + n.n_a;
+      continue;
     }
+    d.a[i] = raw[i] + n.n_a;
+    const Vector3d F_s = x.F_ext + x.F_dot * (kStage[i] * u.dt);
+    (frame == ForceFrame::kBody ? d.a[i] : d.o[i]) += F_s;
   }
   return d;
 }
@@ -36,40 +45,54 @@ Vector3d mid_rate(const ImuState& x, const ImuInterval& u, const DiscreteNoise& 
   return 0.5 * (u.gyro0 + u.gyro1) - x.b_g - n.n_g;
 }
 
-constexpr double kStage[3] = {0.0, 0.5, 1.0};
+// Simpson weights of the velocity (dt/6 [1 4 1]) and position (dt^2/6 [1 2 0]) increments.
+template <typename T>
+T simpson_v(double dt, const T& f0, const T& f1, const T& f2) {
+  return dt / 6.0 * (f0 + 4.0 * f1 + f2);
+}
+template <typename T>
+T simpson_p(double dt, const T& f0, const T& f1) {
+  return dt * dt / 6.0 * (f0 + 2.0 * f1);
+}
 
 }  // namespace
 
 ImuState propagate_mean(const ImuState& x, const ImuInterval& u, PropagationMode mode,
-                        const Vector3d& g_W, const DiscreteNoise& noise) {
+                        const Vector3d& g_W, const DiscreteNoise& noise, ForceFrame frame) {
   const double dt = u.dt;
   const Vector3d w = mid_rate(x, u, noise);
-  const Drive d = body_drive(x, u, mode, noise);
+  const Drive d = stage_drive(x, u, mode, frame, g_W, noise);
   const Matrix3d R_k = x.q_WI.toRotationMatrix();
   Vector3d f[3];
   for (int i = 0; i < 3; ++i) {
-    f[i] = R_k * (so3::exp(w * (kStage[i] * dt)) * d.a[i]) + g_W;
+    f[i] = R_k * (so3::exp(w * (kStage[i] * dt)) * d.a[i]) + d.o[i];
   }
   ImuState y = x;
   y.q_WI = so3::boxplus(x.q_WI, w * dt);
-  y.v_WI = x.v_WI + dt / 6.0 * (f[0] + 4.0 * f[1] + f[2]);
-  y.p_WI = x.p_WI + x.v_WI * dt + dt * dt / 6.0 * (f[0] + 2.0 * f[1]);
+  y.v_WI = x.v_WI + simpson_v(dt, f[0], f[1], f[2]);
+  y.p_WI = x.p_WI + x.v_WI * dt + simpson_p(dt, f[0], f[1]);
   y.b_g = x.b_g + noise.w_g;
   y.b_a = x.b_a + noise.w_a;
-  if (mode == PropagationMode::kDynamics) y.F_ext_I = x.F_ext_I + noise.w_F;
+  if (mode == PropagationMode::kDynamics) {
+    y.F_ext = x.F_ext + x.F_dot * dt + noise.w_F;
+    y.F_dot = x.F_dot + noise.w_Fd;
+  }
   return y;
 }
 
 void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuState& x_k1,
                            const ImuInterval& u, PropagationMode mode, const Vector3d& g_W,
-                           Eigen::MatrixXd* Phi_out, Eigen::MatrixXd* G_out) {
+                           Eigen::MatrixXd* Phi_out, Eigen::MatrixXd* G_out, ForceFrame frame,
+                           bool force_rate) {
   namespace ix = imu_idx;
   const bool dyn = mode == PropagationMode::kDynamics;
-  const int d = dyn ? 18 : 15;
-  const int nn = dyn ? 15 : 12;
+  const bool rate = dyn && force_rate;
+  const int d = dyn ? (rate ? 21 : 18) : 15;
+  const int nn = dyn ? (rate ? 18 : 15) : 12;
   const double dt = u.dt;
   const Vector3d w = mid_rate(x_k, u, DiscreteNoise{});
-  const Drive drv = body_drive(x_k, u, mode, DiscreteNoise{});
+  const Drive drv = stage_drive(x_k, u, mode, frame, g_W, DiscreteNoise{});
+  const bool world_force = dyn && frame == ForceFrame::kWorld;
   const Matrix3d R_k = x_k.q_WI.toRotationMatrix();
   const Matrix3d R_k_fej = fej_k.q_WI.toRotationMatrix();
   const Matrix3d R_k1 = x_k1.q_WI.toRotationMatrix();  // first estimate of t_{k+1}
@@ -82,8 +105,9 @@ void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuSt
   Phi.block<3, 3>(ix::kTheta, ix::kBg) = -Jr_dt;
   // Position/velocity vs orientation in the "global difference" form, which equals the exact
   // Jacobian -R_k [sum w_i dR_i a_i]x when the first estimates equal the current estimate.
-  const Vector3d dv = x_k1.v_WI - fej_k.v_WI - g_W * dt;
-  const Vector3d dp = x_k1.p_WI - fej_k.p_WI - fej_k.v_WI * dt - 0.5 * g_W * dt * dt;
+  // The world offset (g, and F_W in the world-force model) does not turn with dtheta.
+  const Vector3d dv = x_k1.v_WI - fej_k.v_WI - simpson_v(dt, drv.o[0], drv.o[1], drv.o[2]);
+  const Vector3d dp = x_k1.p_WI - fej_k.p_WI - fej_k.v_WI * dt - simpson_p(dt, drv.o[0], drv.o[1]);
   Phi.block<3, 3>(ix::kV, ix::kTheta) = -so3::skew(dv) * R_k_fej;
   Phi.block<3, 3>(ix::kP, ix::kTheta) = -so3::skew(dp) * R_k_fej;
   Phi.block<3, 3>(ix::kP, ix::kV) = Matrix3d::Identity() * dt;
@@ -97,15 +121,26 @@ void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuSt
     Bg[i] = R_k * dR * so3::skew(drv.a[i]) * so3::right_jacobian(w * s) * s;
     Ba[i] = R_k * dR;
   }
-  const Matrix3d v_bg = dt / 6.0 * (Bg[0] + 4.0 * Bg[1] + Bg[2]);
-  const Matrix3d p_bg = dt * dt / 6.0 * (Bg[0] + 2.0 * Bg[1]);
-  const Matrix3d v_a = dt / 6.0 * (Ba[0] + 4.0 * Ba[1] + Ba[2]);
-  const Matrix3d p_a = dt * dt / 6.0 * (Ba[0] + 2.0 * Ba[1]);
+  const Matrix3d v_bg = simpson_v(dt, Bg[0], Bg[1], Bg[2]);
+  const Matrix3d p_bg = simpson_p(dt, Bg[0], Bg[1]);
+  const Matrix3d v_a = simpson_v(dt, Ba[0], Ba[1], Ba[2]);
+  const Matrix3d p_a = simpson_p(dt, Ba[0], Ba[1]);
   Phi.block<3, 3>(ix::kV, ix::kBg) = v_bg;
   Phi.block<3, 3>(ix::kP, ix::kBg) = p_bg;
   if (dyn) {
-    Phi.block<3, 3>(ix::kV, ix::kF) = v_a;
-    Phi.block<3, 3>(ix::kP, ix::kF) = p_a;
+    // Stage i sees F_k + F_dot s_i, through R_k dR_i (body force) or directly (world force).
+    const Matrix3d I3 = Matrix3d::Identity();
+    const Matrix3d M[3] = {world_force ? I3 : Ba[0], world_force ? I3 : Ba[1], world_force ? I3 : Ba[2]};
+    Phi.block<3, 3>(ix::kV, ix::kF) = simpson_v(dt, M[0], M[1], M[2]);
+    Phi.block<3, 3>(ix::kP, ix::kF) = simpson_p(dt, M[0], M[1]);
+    if (rate) {
+      const Matrix3d Ms0 = Matrix3d::Zero();  // s_0 = 0
+      const Matrix3d Ms1 = M[1] * (0.5 * dt);
+      const Matrix3d Ms2 = M[2] * dt;
+      Phi.block<3, 3>(ix::kV, ix::kFdot) = simpson_v(dt, Ms0, Ms1, Ms2);
+      Phi.block<3, 3>(ix::kP, ix::kFdot) = simpson_p(dt, Ms0, Ms1);
+      Phi.block<3, 3>(ix::kF, ix::kFdot) = I3 * dt;
+    }
   } else {
     Phi.block<3, 3>(ix::kV, ix::kBa) = -v_a;
     Phi.block<3, 3>(ix::kP, ix::kBa) = -p_a;
@@ -124,12 +159,14 @@ void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuSt
   G.block<3, 3>(ix::kBg, noise_idx::kWg).setIdentity();
   G.block<3, 3>(ix::kBa, noise_idx::kWa).setIdentity();
   if (dyn) G.block<3, 3>(ix::kF, noise_idx::kWF).setIdentity();
+  if (rate) G.block<3, 3>(ix::kFdot, noise_idx::kWFd).setIdentity();
 }
 
 Eigen::VectorXd discrete_noise_variances(const EstimatorParams& p, double dt, double noise_scale,
                                          double thrust_noise_scale) {
   const bool dyn = p.mode == PropagationMode::kDynamics;
-  Eigen::VectorXd q(dyn ? 15 : 12);
+  const bool rate = dyn && p.force_rate_random_walk > 0.0;
+  Eigen::VectorXd q(dyn ? (rate ? 18 : 15) : 12);
   const double s2 = noise_scale * noise_scale;
   // Held white noise of density sigma over dt has variance sigma^2 / dt.
   q.segment<3>(noise_idx::kNg).setConstant(s2 * p.gyro_noise_density * p.gyro_noise_density / dt);
@@ -139,6 +176,9 @@ Eigen::VectorXd discrete_noise_variances(const EstimatorParams& p, double dt, do
   q.segment<3>(noise_idx::kWg).setConstant(p.gyro_random_walk * p.gyro_random_walk * dt);
   q.segment<3>(noise_idx::kWa).setConstant(p.accel_random_walk * p.accel_random_walk * dt);
   if (dyn) q.segment<3>(noise_idx::kWF).setConstant(p.force_random_walk * p.force_random_walk * dt);
+  if (rate) {
+    q.segment<3>(noise_idx::kWFd).setConstant(p.force_rate_random_walk * p.force_rate_random_walk * dt);
+  }
   return q;
 }
 
@@ -147,9 +187,10 @@ void propagate(FilterState& state, const ImuInterval& u, const EstimatorParams& 
   const Vector3d g_W(0.0, 0.0, -params.gravity);
   if (!params.use_fej) state.reset_imu_fej();
   const ImuState x_k = state.imu();
-  const ImuState x_k1 = propagate_mean(x_k, u, params.mode, g_W);
+  const ImuState x_k1 = propagate_mean(x_k, u, params.mode, g_W, DiscreteNoise{}, state.force_frame());
   Eigen::MatrixXd Phi, G;
-  propagation_jacobians(x_k, state.imu_fej(), x_k1, u, params.mode, g_W, &Phi, &G);
+  propagation_jacobians(x_k, state.imu_fej(), x_k1, u, params.mode, g_W, &Phi, &G, state.force_frame(),
+                        state.with_force_rate());
   const Eigen::VectorXd q = discrete_noise_variances(params, u.dt, noise_scale, thrust_noise_scale);
 
   Eigen::MatrixXd& P = state.P();

@@ -11,7 +11,20 @@
 
 namespace vid {
 
-FilterState::FilterState(bool with_force) : with_force_(with_force) {
+Eigen::Vector3d force_in_body(const ImuState& x, ForceFrame frame) {
+  return frame == ForceFrame::kBody ? x.F_ext : Eigen::Vector3d(x.q_WI.conjugate() * x.F_ext);
+}
+
+Eigen::Vector3d force_in_world(const ImuState& x, ForceFrame frame) {
+  return frame == ForceFrame::kWorld ? x.F_ext : Eigen::Vector3d(x.q_WI * x.F_ext);
+}
+
+void set_force_from_body(ImuState& x, ForceFrame frame, const Eigen::Vector3d& F_I) {
+  x.F_ext = frame == ForceFrame::kBody ? F_I : Eigen::Vector3d(x.q_WI * F_I);
+}
+
+FilterState::FilterState(bool with_force, ForceFrame force_frame, bool with_force_rate)
+    : with_force_(with_force), force_frame_(force_frame), with_force_rate_(with_force && with_force_rate) {
   P_ = Eigen::MatrixXd::Identity(imu_dim(), imu_dim());
 }
 
@@ -23,7 +36,8 @@ void FilterState::initialize(TimeNs t_ns, const ImuState& imu, const Eigen::Matr
   t_ns_ = t_ns;
   imu_ = imu;
   imu_.q_WI = so3::normalized(imu.q_WI);
-  if (!with_force_) imu_.F_ext_I.setZero();
+  if (!with_force_) imu_.F_ext.setZero();
+  if (!with_force_rate_) imu_.F_dot.setZero();
   calib_.clear();
   clones_.clear();
   P_ = P_imu;
@@ -114,7 +128,8 @@ void FilterState::apply_correction(const Eigen::VectorXd& dx) {
   imu_.v_WI += dx.segment<3>(imu_idx::kV);
   imu_.b_g += dx.segment<3>(imu_idx::kBg);
   imu_.b_a += dx.segment<3>(imu_idx::kBa);
-  if (with_force_) imu_.F_ext_I += dx.segment<3>(imu_idx::kF);
+  if (with_force_) imu_.F_ext += dx.segment<3>(imu_idx::kF);
+  if (with_force_rate_) imu_.F_dot += dx.segment<3>(imu_idx::kFdot);
   for (CalibPose& c : calib_) {
     c.q = so3::boxplus(c.q, dx.segment<3>(c.cov_index));
     c.p += dx.segment<3>(c.cov_index + 3);

@@ -29,11 +29,24 @@ UpdateResult ekf_update_columns(FilterState& state, const std::vector<int>& cols
                                 const Eigen::MatrixXd& H_cols, const Eigen::VectorXd& r,
                                 const Eigen::MatrixXd& R, double chi2_threshold = 0.0);
 
-/// @brief Predicted accelerometer reading of dynamics mode: T_m + F_ext + b_a.
-Eigen::Vector3d predict_accel(const ImuState& x, const Eigen::Vector3d& T_m);
+/// @brief Predicted accelerometer reading of dynamics mode (seed eq. 58): T_m + F_I + b_a, with
+/// F_I = R_WI^T F_W in the world-frame force model.
+Eigen::Vector3d predict_accel(const ImuState& x, const Eigen::Vector3d& T_m,
+                              ForceFrame frame = ForceFrame::kBody);
+
+/// @brief Non-trivial blocks of the accelerometer measurement Jacobian; H_ba is always I.
+struct AccelJacobian {
+  Eigen::Matrix3d H_theta;  ///< d h / d dtheta (zero for a body-frame force)
+  Eigen::Matrix3d H_F;      ///< d h / d dF_ext (I for a body-frame force, R_WI^T for world)
+};
+
+/// @brief Jacobian of predict_accel at x, with the rotation taken at q_WI_lin (the first
+/// estimate, for observability consistency; pass x.q_WI for the exact Jacobian).
+AccelJacobian accel_jacobian(const ImuState& x, const Eigen::Quaterniond& q_WI_lin, ForceFrame frame);
 
 /// @brief Accelerometer update (dynamics mode) with isotropic discrete noise variance
-/// noise_var [(m/s^2)^2]. O(n^2): P H^T is the sum of the b_a and F_ext column blocks.
+/// noise_var [(m/s^2)^2]. O(n^2): H touches only the b_a and F_ext columns (and the
+/// orientation columns in the world-frame force model), so P H^T is a few n x 3 blocks.
 UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
                           double noise_var, double chi2_threshold);
 

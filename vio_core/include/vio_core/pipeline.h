@@ -54,7 +54,12 @@ struct EstimateOutput {
   TimeNs t_ns = 0;
   ImuState x;
   Eigen::VectorXd sigma;  ///< 1-sigma of the IMU error block (15 or 18)
-  Eigen::Matrix3d cov_theta, cov_p, cov_F;  ///< for consistency checks (cov_F zero in imu mode)
+  Eigen::Matrix3d cov_theta, cov_p;  ///< for consistency checks
+  /// External force in I and in W [m/s^2] and their covariances (zero in imu mode); the one
+  /// in the state's force frame is the state's block, the other is mapped through R_WI with
+  /// the orientation uncertainty included.
+  Eigen::Vector3d F_ext_I, F_ext_W;
+  Eigen::Matrix3d cov_F_I, cov_F_W;
   FilterStatus status = FilterStatus::kOk;
 };
 

@@ -5,7 +5,9 @@
 /// clone augmentation, marginalization, error-state correction, and health checks.
 ///
 /// Error-state layout of the IMU block (right perturbation on orientation, DESIGN §3):
-/// [dtheta(3), dp_WI(3), dv_WI(3), db_g(3), db_a(3)] and, in dynamics mode, dF_ext(3) (body).
+/// [dtheta(3), dp_WI(3), dv_WI(3), db_g(3), db_a(3)] and, in dynamics mode, dF_ext(3) (in the
+/// state's force frame, EstimatorParams::force_frame), then optionally dF_ext/dt(3) in the same
+/// frame (EstimatorParams::force_rate_random_walk > 0).
 /// Calibration variables follow the IMU block; clones (oldest first) follow those.
 
 #include <Eigen/Core>
@@ -14,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "vio_core/estimator_params.h"
 #include "vio_core/measurements.h"
 
 namespace vid {
@@ -26,6 +29,7 @@ constexpr int kV = 6;
 constexpr int kBg = 9;
 constexpr int kBa = 12;
 constexpr int kF = 15;  ///< only in dynamics mode
+constexpr int kFdot = 18;  ///< only with the force-rate state
 }  // namespace imu_idx
 
 /// @brief Mean of the IMU block.
@@ -35,8 +39,19 @@ struct ImuState {
   Eigen::Vector3d v_WI = Eigen::Vector3d::Zero();
   Eigen::Vector3d b_g = Eigen::Vector3d::Zero();
   Eigen::Vector3d b_a = Eigen::Vector3d::Zero();
-  Eigen::Vector3d F_ext_I = Eigen::Vector3d::Zero();  ///< mass-normalized external force, body
+  /// Mass-normalized external force [m/s^2] in the state's force frame (I or W); use
+  /// force_in_body() / force_in_world() to read it in a given frame.
+  Eigen::Vector3d F_ext = Eigen::Vector3d::Zero();
+  /// dF_ext/dt [m/s^3] in the same frame; zero unless the force-rate state is on.
+  Eigen::Vector3d F_dot = Eigen::Vector3d::Zero();
 };
+
+/// @brief F_ext of x in the body frame I (F_I = R_WI^T F_W in the world-frame model).
+Eigen::Vector3d force_in_body(const ImuState& x, ForceFrame frame);
+/// @brief F_ext of x in the world frame W (F_W = R_WI F_I in the body-frame model).
+Eigen::Vector3d force_in_world(const ImuState& x, ForceFrame frame);
+/// @brief Store a force given in I into x.F_ext in the model's frame.
+void set_force_from_body(ImuState& x, ForceFrame frame, const Eigen::Vector3d& F_I);
 
 /// @brief First estimates of the IMU pose/velocity (the value the state had when it was first
 /// propagated to the current time; used for observability-consistent linearization).
@@ -75,13 +90,18 @@ struct CovarianceHealth {
 class FilterState {
  public:
   /// @param with_force true in dynamics mode (adds F_ext to the IMU block).
-  explicit FilterState(bool with_force = true);
+  /// @param force_frame frame of the F_ext state
+  /// @param with_force_rate adds dF_ext/dt after F_ext (needs with_force)
+  explicit FilterState(bool with_force = true, ForceFrame force_frame = ForceFrame::kBody,
+                       bool with_force_rate = false);
 
   /// @brief Reset to one IMU block with the given mean and covariance (no clones, no calib).
   void initialize(TimeNs t_ns, const ImuState& imu, const Eigen::MatrixXd& P_imu);
 
   bool with_force() const { return with_force_; }
-  int imu_dim() const { return with_force_ ? 18 : 15; }
+  ForceFrame force_frame() const { return force_frame_; }
+  bool with_force_rate() const { return with_force_rate_; }
+  int imu_dim() const { return 15 + (with_force_ ? 3 : 0) + (with_force_rate_ ? 3 : 0); }
   int dim() const { return static_cast<int>(P_.rows()); }
   TimeNs time() const { return t_ns_; }
   void set_time(TimeNs t) { t_ns_ = t; }
@@ -121,6 +141,8 @@ class FilterState {
   void insert_block(int at, const Eigen::MatrixXd& cov);
 
   bool with_force_;
+  ForceFrame force_frame_;
+  bool with_force_rate_;
   TimeNs t_ns_ = 0;
   ImuState imu_;
   ImuFej imu_fej_;

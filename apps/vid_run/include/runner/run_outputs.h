@@ -22,7 +22,7 @@ struct EstimateRow {
   Eigen::Vector3d b_g = Eigen::Vector3d::Zero();
   Eigen::Vector3d b_a = Eigen::Vector3d::Zero();
   Eigen::Vector3d F_ext_I = Eigen::Vector3d::Zero();  ///< mass-normalized, body [m/s^2]
-  /// 1-sigma of [dtheta(3), dp(3), dv(3), db_g(3), db_a(3), dF(3)]; F is 0 in imu mode
+  /// 1-sigma of [dtheta(3), dp(3), dv(3), db_g(3), db_a(3), dF_I(3)]; F is 0 in imu mode
   Eigen::Matrix<double, 18, 1> sigma = Eigen::Matrix<double, 18, 1>::Zero();
 };
 
