@@ -100,6 +100,7 @@ Listener run_over_memq(const Script& script, LiveOptions opt, nlohmann::json* su
   lcm.subscribe("VID_FORCE", &Listener::on_force, &listener);
   LiveEngine engine(std::move(opt), &lcm);
   engine.subscribe(lcm);
+  engine.start();
   for (const auto& [channel, bytes] : script.messages) {
     EXPECT_EQ(lcm.publish(channel, bytes.data(), static_cast<unsigned>(bytes.size())), 0);
     drain(lcm);
@@ -183,25 +184,39 @@ TEST(LiveMemq, ReinitializesAfterDivergence) {
   EXPECT_EQ(s["health"], "tracking");
 }
 
-TEST(LiveMemq, OverloadDropsOnlyCameraFramesAndBlockModeDropsNothing) {
+TEST(LiveMemq, OverloadDropsTheOldestFramesNeverImu) {
   Script script;
   script.build();
-  for (bool block : {false, true}) {
-    LiveOptions o = live_options();
-    o.max_queued_frames = 1;
-    o.block_when_full = block;
-    LiveEngine engine(o, nullptr);
-    // A burst: everything at once, faster than the worker runs.
-    for (const auto& [channel, bytes] : script.messages) engine.on_message(channel, bytes.data(), bytes.size());
-    engine.finish();
-    const auto s = engine.summary();
-    const long dropped = s["faults"]["frames_dropped_overload"].get<long>();
-    EXPECT_EQ(s["counts"]["imu_samples"].get<long>(), static_cast<long>(script.imu.size())) << "block " << block;
-    EXPECT_EQ(s["counts"]["camera_frames"].get<long>() + dropped, static_cast<long>(script.frames.size()));
-    if (block) {
-      EXPECT_EQ(dropped, 0);
-    }
-  }
+  LiveOptions o = live_options();
+  o.max_queued_frames = 3;
+  o.block_when_full = false;
+  LiveEngine engine(o, nullptr);
+  // Everything arrives before the worker runs: a worst-case overload.
+  for (const auto& [channel, bytes] : script.messages) engine.on_message(channel, bytes.data(), bytes.size());
+  engine.finish();
+  const auto s = engine.summary();
+  const long n_frames = static_cast<long>(script.frames.size());
+  EXPECT_EQ(s["faults"]["frames_dropped_overload"].get<long>(), n_frames - 3);
+  EXPECT_EQ(s["counts"]["camera_frames"].get<long>(), 3);  // the three newest
+  EXPECT_EQ(s["counts"]["imu_samples"].get<long>(), static_cast<long>(script.imu.size()));
+  EXPECT_EQ(s["faults"]["imu.received"].get<long>(), static_cast<long>(script.imu.size()));
+}
+
+TEST(LiveMemq, BlockModeMakesTheReaderWaitAndDropsNothing) {
+  Script script;
+  script.build();
+  LiveOptions o = live_options();
+  o.max_queued_frames = 1;
+  o.max_queued_samples = 16;
+  o.block_when_full = true;
+  LiveEngine engine(o, nullptr);
+  engine.start();
+  for (const auto& [channel, bytes] : script.messages) engine.on_message(channel, bytes.data(), bytes.size());
+  engine.finish();
+  const auto s = engine.summary();
+  EXPECT_EQ(s["faults"]["frames_dropped_overload"].get<long>(), 0);
+  EXPECT_EQ(s["counts"]["camera_frames"].get<long>(), static_cast<long>(script.frames.size()));
+  EXPECT_EQ(s["counts"]["imu_samples"].get<long>(), static_cast<long>(script.imu.size()));
 }
 
 TEST(LiveMemq, MalformedAndUnknownPayloadsAreCountedNotFatal) {

@@ -35,6 +35,12 @@ LiveEngine::LiveEngine(LiveOptions options, lcm::LCM* publisher)
     if (it != frame_arrival_.end()) processed_arrivals_.push_back(it->second);
     frame_arrival_.erase(frame_arrival_.begin(), it == frame_arrival_.end() ? it : std::next(it));
   });
+}
+
+void LiveEngine::start() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (started_) return;
+  started_ = true;
   worker_ = std::thread([this] { worker_loop(); });
 }
 
@@ -135,8 +141,14 @@ void LiveEngine::deliver(std::vector<LiveItem> items, std::unique_lock<std::mute
 
 void LiveEngine::push_work(WorkItem w, std::unique_lock<std::mutex>& lock) {
   const bool is_frame = std::holds_alternative<CameraFrame>(w);
+  const bool running = started_;  // before start() nothing drains the queue: never wait
+  if (!is_frame && running && queue_.size() - queued_frames_ >= opt_.max_queued_samples) {
+    // Sensor samples are never dropped; far behind (not a normal overload), the reader waits.
+    cv_space_.wait(lock, [&] { return queue_.size() - queued_frames_ < opt_.max_queued_samples || failed_; });
+    if (failed_) return;
+  }
   if (is_frame && queued_frames_ >= opt_.max_queued_frames) {
-    if (opt_.block_when_full) {
+    if (opt_.block_when_full && running) {
       cv_space_.wait(lock, [&] { return queued_frames_ < opt_.max_queued_frames || failed_; });
       if (failed_) return;
     } else {
@@ -164,6 +176,7 @@ void LiveEngine::finish() {
       cv_work_.notify_all();
     }
   }
+  start();  // the worker runs whatever is queued, then finishes the session
   if (worker_.joinable()) worker_.join();
   if (failed_) throw std::runtime_error(error_);
 }
@@ -177,10 +190,8 @@ void LiveEngine::worker_loop() {
       if (queue_.empty()) break;
       w = std::move(queue_.front());
       queue_.pop_front();
-      if (std::holds_alternative<CameraFrame>(w)) {
-        --queued_frames_;
-        cv_space_.notify_all();
-      }
+      if (std::holds_alternative<CameraFrame>(w)) --queued_frames_;
+      cv_space_.notify_all();
     }
     try {
       process(w);

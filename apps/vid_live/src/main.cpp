@@ -95,6 +95,7 @@ int main(int argc, char** argv) {
 
     vid::live::LiveEngine engine(opt, publisher);
     engine.subscribe(input);
+    engine.start();
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     spdlog::info("listening on {} ({})", url, fmt::join(engine.input_channels(), ", "));

@@ -35,6 +35,7 @@ struct LiveOptions {
   lcm_io::ChannelNames channels;
   TimeNs reorder_window_ns = 30'000'000;   ///< data time a message waits for late-comers
   std::size_t max_queued_frames = 4;       ///< camera frames waiting for the worker
+  std::size_t max_queued_samples = 100000; ///< IMU/rotor/thrust samples waiting (then the reader waits)
   bool block_when_full = false;            ///< true: the LCM thread waits instead of dropping (logs)
   double stall_s = 0.5;                    ///< no camera frame for this long (data time) = stall
   std::string source_url;                  ///< recorded in the summary
@@ -53,6 +54,9 @@ class LiveEngine {
   LiveEngine(const LiveEngine&) = delete;
   LiveEngine& operator=(const LiveEngine&) = delete;
 
+  /// @brief Start the worker thread (messages received before are queued, frames bounded as
+  /// usual). finish() starts it too.
+  void start();
   /// @brief Channels to subscribe to (IMU, cameras tracked, rotors or thrust).
   std::vector<std::string> input_channels() const;
   /// @brief Subscribe the engine to its input channels on @p lcm.
@@ -101,7 +105,7 @@ class LiveEngine {
   ReorderWindow window_;
   std::deque<WorkItem> queue_;
   std::size_t queued_frames_ = 0;
-  bool input_done_ = false, finished_ = false;
+  bool input_done_ = false, finished_ = false, started_ = false;
   std::int64_t frames_dropped_overload_ = 0, frames_without_left_ = 0, camera_stalls_ = 0;
   std::thread worker_;
   std::atomic<long> messages_{0};
