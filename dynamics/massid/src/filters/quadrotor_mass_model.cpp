@@ -23,15 +23,27 @@ Eigen::Matrix3d so3_gamma2(const Eigen::Vector3d& phi) {
   return 0.5 * Eigen::Matrix3d::Identity() + a * W + b * W * W;
 }
 
-QuadMassState QuadrotorMassModel::propagate(const State& x, const Input& u, double dt) const {
+const QuadrotorMassModel::InputTerms& QuadrotorMassModel::terms(const Input& u, double dt) const {
   const Eigen::Vector3d phi = u.w_I * dt;
+  if (phi != cache_.w_dt) {
+    cache_.w_dt = phi;
+    cache_.dq = so3::quat_exp(phi);
+    cache_.exp_T = cache_.dq.toRotationMatrix().transpose();
+    cache_.jl_e3 = so3::left_jacobian(phi).col(2);
+    cache_.g2_e3 = so3_gamma2(phi).col(2);
+  }
+  return cache_;
+}
+
+QuadMassState QuadrotorMassModel::propagate(const State& x, const Input& u, double dt) const {
+  const InputTerms& k = terms(u, dt);
   const Eigen::Matrix3d R_WI = x.q_WI.toRotationMatrix();
   const double a = u.thrust_N / x.mass_kg;
   const Eigen::Vector3d g = g_W();
   State y;
-  y.q_WI = so3::boxplus(x.q_WI, phi);
-  y.v_WI = x.v_WI + (a * R_WI * so3::left_jacobian(phi).col(2) + g) * dt;
-  y.p_WI = x.p_WI + x.v_WI * dt + (a * R_WI * so3_gamma2(phi).col(2) + 0.5 * g) * dt * dt;
+  y.q_WI = (x.q_WI * k.dq).normalized();
+  y.v_WI = x.v_WI + (a * R_WI * k.jl_e3 + g) * dt;
+  y.p_WI = x.p_WI + x.v_WI * dt + (a * R_WI * k.g2_e3 + 0.5 * g) * dt * dt;
   y.mass_kg = x.mass_kg;
   return y;
 }
@@ -39,14 +51,14 @@ QuadMassState QuadrotorMassModel::propagate(const State& x, const Input& u, doub
 QuadrotorMassModel::StateMat QuadrotorMassModel::state_jacobian(const State& x, const Input& u,
                                                                 double dt) const {
   using namespace qm_idx;
-  const Eigen::Vector3d phi = u.w_I * dt;
+  const InputTerms& k = terms(u, dt);
   const Eigen::Matrix3d R_WI = x.q_WI.toRotationMatrix();
   const double a = u.thrust_N / x.mass_kg;
-  const Eigen::Vector3d jl_e3 = so3::left_jacobian(phi).col(2);
-  const Eigen::Vector3d g2_e3 = so3_gamma2(phi).col(2);
+  const Eigen::Vector3d& jl_e3 = k.jl_e3;
+  const Eigen::Vector3d& g2_e3 = k.g2_e3;
   StateMat F = StateMat::Identity();
   // R Exp(dtheta) Exp(phi) = R Exp(phi) Exp(Exp(phi)^T dtheta)
-  F.block<3, 3>(kTheta, kTheta) = so3::exp(phi).transpose();
+  F.block<3, 3>(kTheta, kTheta) = k.exp_T;
   // R Exp(dtheta) c ≈ R c - R [c]x dtheta
   F.block<3, 3>(kV, kTheta) = -a * dt * R_WI * so3::skew(jl_e3);
   F.block<3, 1>(kV, kM) = -(a / x.mass_kg) * dt * R_WI * jl_e3;

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <deque>
+#include <stdexcept>
 
 #include "vio_core/so3.h"
 
@@ -117,7 +118,16 @@ struct SlidingWindowLs::Impl {
     problem = std::make_unique<ceres::Problem>(po);
     // The window is a chain of 10-dim blocks (~100 unknowns): dense normal equations beat
     // SuiteSparse's per-solve symbolic analysis at this size (bench/massid compares them).
-    options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+    if (t.swls_linear_solver == "dense_normal_cholesky") {
+      options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+    } else if (t.swls_linear_solver == "dense_qr") {
+      options.linear_solver_type = ceres::DENSE_QR;
+    } else if (t.swls_linear_solver == "sparse_normal_cholesky") {
+      options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+      options.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+    } else {
+      throw std::invalid_argument("swls_linear_solver: unknown solver '" + t.swls_linear_solver + "'");
+    }
     options.max_num_iterations = t.swls_max_iterations;
     options.function_tolerance = t.swls_function_tolerance;
     options.parameter_tolerance = std::min(1e-8, t.swls_function_tolerance);

@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <limits>
 
 #include "massid/filters/system_model.h"
 #include "massid/run_data.h"
@@ -52,6 +53,10 @@ struct QuadMassMeas {
 Eigen::Matrix3d so3_gamma2(const Eigen::Vector3d& phi);
 
 /// @brief Seed eq. 47 with analytic on-manifold Jacobians.
+///
+/// The terms that depend only on the input (Exp(w dt), J_l(w dt) e3, G2(w dt) e3) are cached
+/// for the last (w, dt): sigma-point filters propagate 2n+1 states with the same input. The
+/// cache makes an instance unsafe to share between threads (each filter owns its copy).
 class QuadrotorMassModel {
  public:
   static constexpr int kStateDim = 10;
@@ -88,7 +93,18 @@ class QuadrotorMassModel {
   static Input input_of(const MassIdSample& s);
 
  private:
+  /// @brief Input-only terms of the discrete map.
+  struct InputTerms {
+    Eigen::Vector3d w_dt = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    Eigen::Quaterniond dq = Eigen::Quaterniond::Identity();  ///< exp(w dt / 2)
+    Eigen::Matrix3d exp_T = Eigen::Matrix3d::Identity();     ///< Exp(w dt)^T
+    Eigen::Vector3d jl_e3 = Eigen::Vector3d::Zero();         ///< J_l(w dt) e3
+    Eigen::Vector3d g2_e3 = Eigen::Vector3d::Zero();         ///< G2(w dt) e3
+  };
+  const InputTerms& terms(const Input& u, double dt) const;
+
   double gravity_;
+  mutable InputTerms cache_;
 };
 
 static_assert(ManifoldSystem<QuadrotorMassModel>);

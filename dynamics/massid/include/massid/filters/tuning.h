@@ -5,26 +5,30 @@
 /// error state; measurement noise (eq. 2's n_y) comes from the run's RunInfo sigmas.
 
 #include <Eigen/Core>
+#include <string>
 
 #include "massid/filters/quadrotor_mass_model.h"
 #include "massid/run_data.h"
 
 namespace vid::massid {
 
-/// @brief Tuning of the model-based methods (documented in README "Methods").
+/// @brief Tuning of the model-based methods (documented in README "Methods"); defaults chosen on
+/// generated loop runs (massid_diag sweeps) as the best compromise between noise and step lag.
 struct ModelBasedTuning {
-  double sigma_theta_rw = 0.02;   ///< attitude random walk [rad/sqrt(s)] (body-rate tracking error)
-  double sigma_p_rw = 0.01;       ///< position random walk [m/sqrt(s)]
+  double sigma_theta_rw = 0.005;   ///< attitude random walk [rad/sqrt(s)] (body-rate tracking error)
+  double sigma_p_rw = 0.003;      ///< position random walk [m/sqrt(s)]
   double sigma_v_rw = 0.1;        ///< velocity random walk [m/s/sqrt(s)] (thrust error, drag)
-  double sigma_m_rw_rel = 0.03;   ///< mass random walk [fraction of the initial guess / sqrt(s)]
+  double sigma_m_rw_rel = 0.035;   ///< mass random walk [fraction of the initial guess / sqrt(s)]
   double sigma_m0_rel = 0.3;      ///< initial mass sigma [fraction of the initial guess]
   double min_sigma_q = 1e-3;      ///< floors when a run declares zero measurement noise
   double min_sigma_p = 1e-3;
   double min_sigma_v = 1e-3;
-  int msckf_window = 10;          ///< MSCKF: samples per window (one stacked update per window)
-  int swls_window = 10;           ///< SWLS: states in the sliding window
-  int swls_max_iterations = 3;    ///< SWLS: Gauss-Newton/LM iterations per new sample
+  int msckf_window = 5;           ///< MSCKF: samples per window (one stacked update per window)
+  int swls_window = 6;            ///< SWLS: states in the sliding window
+  int swls_max_iterations = 2;    ///< SWLS: Gauss-Newton/LM iterations per new sample
   double swls_function_tolerance = 1e-6;  ///< SWLS: Ceres function (and parameter) tolerance
+  /// SWLS: Ceres linear solver: dense_normal_cholesky | dense_qr | sparse_normal_cholesky
+  std::string swls_linear_solver = "dense_normal_cholesky";
 };
 
 /// @brief Discrete process covariance Q (10 x 10, diagonal) for an interval dt.

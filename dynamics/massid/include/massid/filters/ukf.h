@@ -3,13 +3,15 @@
 /// @brief Unscented Kalman filter with sigma points on the manifold (seed eqs. 15-17):
 /// chi_0 = x, chi_{i, i+n} = x ⊞ (± sqrt((n + lambda) P))_i (eq. 15); the predicted mean is
 /// the weighted manifold mean of f(chi) (fixed-point iteration in the tangent of the current
-/// mean), P^- = sum w_c (chi ⊟ x^-)(.)^T + Q (eq. 16); the update redraws sigma points around
+/// mean; the covariance uses the deviations centred on the mean shift, exact in R^n), P^- = sum w_c (chi ⊟ x^-)(.)^T + Q (eq. 16); the update redraws sigma points around
 /// (x^-, P^-), forms Pyy = sum w_c dy dy^T + R and Pxy = sum w_c dx dy^T with dy taken in the
 /// tangent of h(x^-), K = Pxy Pyy^-1 (eq. 17).
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
+#include <utility>
 
 #include "massid/filters/kalman_update.h"
 #include "massid/filters/system_model.h"
@@ -21,7 +23,7 @@ struct UkfParams {
   double alpha = 1.0;
   double beta = 0.0;
   double kappa = 0.0;
-  int mean_iterations = 2;  ///< manifold mean fixed-point iterations (1 suffices in R^n)
+  int mean_iterations = 1;  ///< manifold mean fixed-point iterations (1 is exact in R^n)
 };
 
 /// @brief UKF over any ManifoldSystem.
@@ -44,6 +46,10 @@ class ManifoldUkf {
     wm0_ = lambda_ / (n + lambda_);
     wc0_ = wm0_ + (1.0 - params.alpha * params.alpha + params.beta);
     wi_ = 0.5 / (n + lambda_);
+    wm_.setConstant(wi_);
+    wc_.setConstant(wi_);
+    wm_(0) = wm0_;
+    wc_(0) = wc0_;
   }
 
   void init(const State& x0, const StateCov& P0) {
@@ -57,20 +63,17 @@ class ManifoldUkf {
     if (!draw(&chi)) return false;
     for (State& c : chi) c = model_.propagate(c, u, dt);
     State mean = chi[0];
-    std::array<StateVec, S> d;
-    for (int it = 0; it < params_.mean_iterations; ++it) {
-      StateVec dm = StateVec::Zero();
-      for (int i = 0; i < S; ++i) {
-        d[i] = Model::boxminus(chi[i], mean);
-        dm += weight_m(i) * d[i];
-      }
-      mean = Model::boxplus(mean, dm);
+    Eigen::Matrix<double, N, S> D;  // deviations chi_i ⊟ mean, one per column
+    StateVec d_mean = StateVec::Zero();
+    for (int it = 0; it < std::max(1, params_.mean_iterations); ++it) {
+      for (int i = 0; i < S; ++i) D.col(i) = Model::boxminus(chi[i], mean);
+      d_mean = D * wm_;
+      mean = Model::boxplus(mean, d_mean);
     }
+    // Deviations from the new mean, to first order (exact in R^n): chi_i ⊟ mean ≈ D_i - d_mean.
+    D.colwise() -= d_mean;
     StateCov P = Q;
-    for (int i = 0; i < S; ++i) {
-      const StateVec di = Model::boxminus(chi[i], mean);
-      P.noalias() += weight_c(i) * di * di.transpose();
-    }
+    P.noalias() += D * wc_.asDiagonal() * D.transpose();
     x_ = mean;
     P_ = 0.5 * (P + P.transpose());
     return true;
@@ -81,21 +84,19 @@ class ManifoldUkf {
     std::array<State, S> chi;
     if (!draw(&chi)) return false;
     const typename Model::Meas y_ref = model_.measure(x_);
-    std::array<MeasVec, S> dy;
-    MeasVec dy_mean = MeasVec::Zero();
-    for (int i = 0; i < S; ++i) {
-      dy[i] = Model::meas_boxminus(model_.measure(chi[i]), y_ref);
-      dy_mean += weight_m(i) * dy[i];
-    }
+    Eigen::Matrix<double, M, S> E;  // measurement deviations, one per column
+    for (int i = 0; i < S; ++i) E.col(i) = Model::meas_boxminus(model_.measure(chi[i]), y_ref);
+    const MeasVec dy_mean = E * wm_;
+    E.colwise() -= dy_mean;
+    // State deviations of the drawn points: 0, +L, -L.
+    Eigen::Matrix<double, N, S> D;
+    D.col(0).setZero();
+    D.template middleCols<N>(1) = L_;
+    D.template rightCols<N>(N) = -L_;
+    const Eigen::Matrix<double, M, S> EW = E * wc_.asDiagonal();
     MeasCov Pyy = R;
-    Eigen::Matrix<double, N, M> Pxy = Eigen::Matrix<double, N, M>::Zero();
-    for (int i = 1; i < S; ++i) {  // chi_0 has zero state deviation; its dy enters Pyy only
-      const MeasVec e = dy[i] - dy_mean;
-      Pyy.noalias() += weight_c(i) * e * e.transpose();
-      Pxy.noalias() += weight_c(i) * sigma_offset(i) * e.transpose();
-    }
-    const MeasVec e0 = dy[0] - dy_mean;
-    Pyy.noalias() += wc0_ * e0 * e0.transpose();
+    Pyy.noalias() += EW * E.transpose();
+    const Eigen::Matrix<double, N, M> Pxy = D * EW.transpose();
     const MeasVec r = Model::meas_boxminus(y, y_ref) - dy_mean;
     StateVec dx;
     if (!kalman_correct<N, M>(P_, Pxy, Pyy, r, &dx)) return false;
@@ -107,10 +108,6 @@ class ManifoldUkf {
   const StateCov& covariance() const { return P_; }
 
  private:
-  double weight_m(int i) const { return i == 0 ? wm0_ : wi_; }
-  double weight_c(int i) const { return i == 0 ? wc0_ : wi_; }
-  StateVec sigma_offset(int i) const { return i <= N ? L_.col(i - 1) : StateVec(-L_.col(i - N - 1)); }
-
   bool draw(std::array<State, S>* chi) {
     Eigen::LLT<StateCov> llt((N + lambda_) * P_);
     if (llt.info() != Eigen::Success) return false;
@@ -126,6 +123,7 @@ class ManifoldUkf {
   Model model_;
   UkfParams params_;
   double lambda_ = 0.0, wm0_ = 0.0, wc0_ = 0.0, wi_ = 0.0;
+  Eigen::Matrix<double, S, 1> wm_, wc_;  ///< mean / covariance weights
   State x_{};
   StateCov P_ = StateCov::Identity();
   StateCov L_ = StateCov::Zero();
