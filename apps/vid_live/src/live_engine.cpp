@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "runner/estimate_access.h"
 #include "runner/run_summary.h"
 
 namespace vid::live {
@@ -265,9 +264,9 @@ void LiveEngine::publish_estimate(const runner::RunSession& s, const EstimateOut
   state_t st;
   st.timestamp = e.t_ns;
   const Eigen::Quaterniond q = e.x.q_WI.normalized();
-  const Eigen::Vector3d f_W = runner::force_world(e);
-  const Eigen::Vector3d f_I = runner::force_body(e);
-  const Eigen::Vector3d sigma_F = runner::force_sigma_body(e);
+  const Eigen::Vector3d& f_W = e.F_ext_W;
+  const Eigen::Vector3d& f_I = e.F_ext_I;
+  const Eigen::Vector3d sigma_F = e.cov_F_I.diagonal().cwiseMax(0.0).cwiseSqrt();  // body, as force.csv
   for (int i = 0; i < 3; ++i) {
     st.p[i] = e.x.p_WI[i];
     st.v[i] = e.x.v_WI[i];

@@ -15,7 +15,6 @@
 #include "frontend/camera_model.h"
 #include "frontend/klt_tracker.h"
 #include "io/dataset_reader.h"
-#include "runner/estimate_access.h"
 #include "runner/run_session.h"
 
 namespace vid::runner {
@@ -68,11 +67,11 @@ EstimateRow to_row(const EstimateOutput& e) {
   r.v_WI = e.x.v_WI;
   r.b_g = e.x.b_g;
   r.b_a = e.x.b_a;
-  r.F_ext_I = force_body(e);
+  r.F_ext_I = e.F_ext_I;
   const int n = std::min<int>(18, static_cast<int>(e.sigma.size()));
   r.sigma.head(n) = e.sigma.head(n);
   // The force sigma is reported in the body frame whatever frame the filter's force state uses.
-  if (n == 18) r.sigma.tail<3>() = force_sigma_body(e);
+  if (n == 18) r.sigma.tail<3>() = e.cov_F_I.diagonal().cwiseMax(0.0).cwiseSqrt();
   return r;
 }
 
@@ -170,7 +169,7 @@ void RunSession::on_estimate(const EstimateOutput& e) {
   est_p_.v.push_back(row.p_WI);
   if (dynamics()) {
     est_f_W_.t_ns.push_back(row.t_ns);
-    est_f_W_.v.push_back(force_world(e));
+    est_f_W_.v.push_back(e.F_ext_W);
   }
   if (on_estimate_) on_estimate_(e);
 }
