@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
+#include <cmath>
 #include <random>
 
 #include <lcm/lcm-cpp.hpp>
@@ -48,6 +49,7 @@ struct Script {
   std::vector<std::pair<std::string, std::vector<std::uint8_t>>> messages;  // in time order
   std::vector<Measurement> imu;
   std::vector<TimeNs> frames;
+  double thrust_N = 0.0;  ///< > 0: collective thrust on THRUST at 100 Hz
   void build() {
     const cv::Mat img = texture();
     const TimeNs end = static_cast<TimeNs>(duration_s * 1e9);
@@ -56,6 +58,8 @@ struct Script {
       if (t >= bad_from && t < bad_to) s.accel_I = Eigen::Vector3d(5000, 5000, 5000);
       messages.emplace_back("IMU", lcm_io::encode(lcm_io::to_lcm(s)));
       imu.push_back(s);
+      if (thrust_N > 0.0 && t % (10 * kMs) == 0)
+        messages.emplace_back("THRUST", lcm_io::encode(lcm_io::to_lcm(ThrustSample{kT0 + t, thrust_N})));
       if (t % (50 * kMs) == 0 && !(t >= gap_from && t < gap_to)) {
         messages.emplace_back("CAM0", lcm_io::encode(lcm_io::make_image(kT0 + t, 0, img.cols, img.rows, img.data, img.step[0])));
         frames.push_back(kT0 + t);
@@ -146,6 +150,25 @@ TEST(LiveMemq, PublishesTheSameEstimatesAsARunSessionFedDirectly) {
   EXPECT_EQ(s["counts"]["camera_frames"].get<long>(), static_cast<long>(script.frames.size()));
   EXPECT_EQ(s["faults"]["frames_dropped_overload"].get<long>(), 0);
   EXPECT_EQ(s["latency_image_to_state_ms"]["count"].get<long>(), s["counts"]["frames_processed"].get<long>());
+}
+
+TEST(LiveMemq, ThrustInputRunsDynamicsModeAndPublishesTheForce) {
+  // Hovering 2 kg vehicle: thrust = m g, accelerometer = g: no external force.
+  Script script;
+  script.thrust_N = 2.0 * 9.81;
+  script.build();
+  LiveOptions o = live_options();
+  o.calibration.vehicle = VehicleParams{2.0, 9.81, {}};
+  o.session.has_thrust = true;
+  nlohmann::json s;
+  const Listener got = run_over_memq(script, o, &s);
+  EXPECT_EQ(s["mode"], "dynamics");
+  ASSERT_GT(got.states.size(), 200u);
+  EXPECT_EQ(got.forces, static_cast<long>(got.states.size()));
+  EXPECT_EQ(s["faults"]["thrust.received"].get<long>(), 201);
+  const state_t& last = got.states.back();
+  EXPECT_LT(std::hypot(last.f_ext_world[0], last.f_ext_world[1], last.f_ext_world[2]), 0.1);
+  EXPECT_GT(last.cov_diag[15], 0.0);  // the force state exists and has a variance
 }
 
 TEST(LiveMemq, CameraStallDegradesHealthUntilImagesReturn) {
