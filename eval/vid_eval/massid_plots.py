@@ -1,0 +1,133 @@
+"""Plots of the mass-identification study (seed figures 7-11), called by `vid_massid report`.
+
+Reads OUT/runs.csv and OUT/estimates/<trajectory>/<profile>/run_NNN.csv written by
+`vid_massid run` and writes, into --out:
+
+* ``<trajectory>.png``: one panel per mass profile, true mass and every method's estimate of
+  the lowest-numbered evaluated run (like the seed's figures 7-11);
+* ``inputs.png``: the commanded inputs per trajectory (thrust-to-weight ratio T / (m g) and
+  body-rate magnitude |w|), to explain why a trajectory that drives the controller near its
+  limits (lemniscate) degrades the observers.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import pathlib
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+PROFILE_ORDER = ["constant", "linear_decrease", "step_drop", "step_pickup", "up_down"]
+TRAJ_ORDER = ["random", "loop", "lemniscate", "zigzag", "square"]
+GRAVITY = 9.81
+
+
+def _ordered(names, order):
+    return [n for n in order if n in names] + sorted(n for n in names if n not in order)
+
+
+def read_estimates(path: pathlib.Path) -> dict[str, np.ndarray]:
+    """Columns of one estimates CSV as float arrays; raises ValueError naming file and line."""
+    with path.open() as f:
+        reader = csv.reader(f)
+        header = next(reader, None)
+        if not header or header[:2] != ["t", "mass_true"]:
+            raise ValueError(f"{path}:1: expected header starting with t,mass_true")
+        rows = []
+        for lineno, row in enumerate(reader, start=2):
+            if len(row) != len(header):
+                raise ValueError(f"{path}:{lineno}: expected {len(header)} fields, got {len(row)}")
+            try:
+                rows.append([float(x) for x in row])
+            except ValueError as e:
+                raise ValueError(f"{path}:{lineno}: {e}") from None
+    if not rows:
+        raise ValueError(f"{path}: no samples")
+    data = np.asarray(rows)
+    return {name: data[:, i] for i, name in enumerate(header)}
+
+
+def find_runs(results: pathlib.Path) -> dict[tuple[str, str], pathlib.Path]:
+    """(trajectory, profile) -> estimates CSV of the lowest-numbered run."""
+    found: dict[tuple[str, str], pathlib.Path] = {}
+    for path in sorted((results / "estimates").glob("*/*/run_*.csv")):
+        key = (path.parent.parent.name, path.parent.name)
+        found.setdefault(key, path)
+    if not found:
+        raise ValueError(f"{results / 'estimates'}: no run_*.csv (run `vid_massid run` first)")
+    return found
+
+
+def plot_trajectory(traj: str, runs: dict[tuple[str, str], pathlib.Path], out: pathlib.Path) -> pathlib.Path:
+    profiles = _ordered({p for (t, p) in runs if t == traj}, PROFILE_ORDER)
+    fig, axes = plt.subplots(len(profiles), 1, figsize=(9, 2.4 * len(profiles)), sharex=True, squeeze=False)
+    for ax, prof in zip(axes[:, 0], profiles):
+        d = read_estimates(runs[(traj, prof)])
+        methods = [k for k in d if k not in ("t", "mass_true", "thrust_cmd", "wx", "wy", "wz")]
+        ax.plot(d["t"], d["mass_true"], "k-", lw=2.0, label="truth")
+        for m in methods:
+            ax.plot(d["t"], d[m], lw=1.0, label=m)
+        ax.set_ylabel("mass [kg]")
+        ax.set_title(f"{traj} / {prof} ({runs[(traj, prof)].stem})", fontsize=9)
+        lo, hi = d["mass_true"].min(), d["mass_true"].max()
+        ax.set_ylim(0.7 * lo, 1.35 * hi)
+        ax.grid(alpha=0.3)
+    axes[0, 0].legend(loc="upper right", ncol=4, fontsize=8)
+    axes[-1, 0].set_xlabel("t [s]")
+    fig.tight_layout()
+    path = out / f"{traj}.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def plot_inputs(runs: dict[tuple[str, str], pathlib.Path], out: pathlib.Path) -> pathlib.Path:
+    trajs = _ordered({t for (t, _) in runs}, TRAJ_ORDER)
+    fig, axes = plt.subplots(len(trajs), 2, figsize=(11, 2.2 * len(trajs)), sharex=True, squeeze=False)
+    for row, traj in zip(axes, trajs):
+        prof = _ordered({p for (t, p) in runs if t == traj}, PROFILE_ORDER)[0]
+        d = read_estimates(runs[(traj, prof)])
+        twr = d["thrust_cmd"] / (d["mass_true"] * GRAVITY)
+        w = np.sqrt(d["wx"] ** 2 + d["wy"] ** 2 + d["wz"] ** 2)
+        row[0].plot(d["t"], twr, lw=0.8)
+        row[0].set_ylabel("T / (m g)")
+        row[0].set_title(f"{traj} ({prof}): thrust-to-weight, p99 {np.percentile(twr, 99):.2f}", fontsize=9)
+        row[1].plot(d["t"], w, lw=0.8, color="tab:red")
+        row[1].set_ylabel("|w| [rad/s]")
+        row[1].set_title(f"{traj}: body-rate magnitude, p99 {np.percentile(w, 99):.2f} rad/s", fontsize=9)
+        for ax in row:
+            ax.grid(alpha=0.3)
+    axes[-1, 0].set_xlabel("t [s]")
+    axes[-1, 1].set_xlabel("t [s]")
+    fig.tight_layout()
+    path = out / "inputs.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--results", required=True, type=pathlib.Path, help="output folder of vid_massid run")
+    ap.add_argument("--out", required=True, type=pathlib.Path, help="folder for the PNG files")
+    a = ap.parse_args(argv)
+    try:
+        runs = find_runs(a.results)
+        a.out.mkdir(parents=True, exist_ok=True)
+        written = [plot_trajectory(t, runs, a.out) for t in _ordered({t for (t, _) in runs}, TRAJ_ORDER)]
+        written.append(plot_inputs(runs, a.out))
+    except (ValueError, OSError) as e:
+        print(f"massid_plots: error: {e}", file=sys.stderr)
+        return 1
+    for p in written:
+        print(p)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
