@@ -1,5 +1,6 @@
 /// @file generate_cmd.cpp
 /// @brief `vid_massid generate`: settings from YAML + flags -> study dataset folder.
+#include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -38,9 +39,11 @@ int run_generate(const GenerateOptions& o) {
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(std::string("settings: ") + e.what());
   }
+  // Logs on stderr; stdout carries only the tracking table.
+  spdlog::logger log("vid_massid", std::make_shared<spdlog::sinks::stderr_sink_st>());
   const int total = static_cast<int>(settings.trajectories.size() * settings.profiles.size()) *
                     settings.runs;
-  spdlog::info("generating {} runs ({} trajectories x {} profiles x {}) into {}", total,
+  log.info("generating {} runs ({} trajectories x {} profiles x {}) into {}", total,
                settings.trajectories.size(), settings.profiles.size(), settings.runs, o.out);
   const auto t0 = std::chrono::steady_clock::now();
   app::ProgressBar bar("generate", total);
@@ -63,7 +66,7 @@ int run_generate(const GenerateOptions& o) {
     }
     std::fputs(table.str().c_str(), stdout);
   }
-  spdlog::info("wrote {} runs in {:.1f} s", total, seconds);
+  log.info("wrote {} runs in {:.1f} s", total, seconds);
   return 0;
 }
 
