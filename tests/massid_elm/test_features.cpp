@@ -10,6 +10,8 @@ namespace {
 
 TEST(Features, DimensionAndLayout) {
   FeatureConfig c;
+  EXPECT_EQ(c.dimension(), static_cast<int>(c.windows.size()) * 7 + 7);
+  c.windows = {0.25, 0.5, 1.0};
   EXPECT_EQ(c.dimension(), 3 * 7 + 7);
   c.physics_ratio = false;
   EXPECT_EQ(c.dimension(), 3 * 6 + 7);
@@ -19,7 +21,8 @@ TEST(Features, WindowQuantitiesFollowIntegratedNewtonLaw) {
   testing::SyntheticSpec spec;
   spec.mass = [](double) { return 1.7; };
   const MassIdRun run = testing::make_synthetic_run(spec);
-  const FeatureConfig config;
+  FeatureConfig config;
+  config.windows = {0.25, 0.5, 1.0};
   const RunFeatures f = extract_run_features(run, config, 1);
   // First feature row is the first sample at least 1 s (longest window) after the start.
   ASSERT_GT(f.X.rows(), 0);
@@ -51,7 +54,8 @@ TEST(Features, CausalFutureSamplesDoNotChangeFeatures) {
     altered.samples[k].v_WI *= 3.0;
     altered.samples[k].thrust_cmd += 5.0;
   }
-  const FeatureConfig config;
+  FeatureConfig config;
+  config.windows = {0.25, 0.5, 1.0};
   const RunFeatures a = extract_run_features(run, config, 1);
   const RunFeatures b = extract_run_features(altered, config, 1);
   const Eigen::Index rows_before = 800 - 100;  // rows of samples 100..799

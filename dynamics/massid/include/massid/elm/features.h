@@ -4,7 +4,7 @@
 /// extracted causally from a run's samples, and their normalization.
 ///
 /// Input vector x_k at sample k, using only samples with t <= t_k (so the same extractor runs
-/// online). For each window length D in FeatureConfig::windows (default 0.25, 0.5, 1.0 s),
+/// online). For each window length D in FeatureConfig::windows (default 0.05, 0.1, 0.2, 0.4 s),
 /// with j the newest sample such that t_j <= t_k - D:
 ///   * a_W = (v_k - v_j) / (t_k - t_j) + g e_z          specific acceleration from the measured
 ///     velocity by a finite difference over the window, world frame [m/s^2] (3)
@@ -16,11 +16,12 @@
 ///     m a_W = f_W (integrated Newton's law) [kg] (1); only if FeatureConfig::physics_ratio
 /// and at sample k itself:
 ///   * T_cmd [N] (1), body rates w_I [rad/s] (3), attitude as z_I in W (3).
-/// Default: 3 windows x 7 + 7 = 28 inputs. Target: mass_true [kg].
+/// Default: 4 windows x 7 + 7 = 35 inputs. Target: mass_true [kg].
 /// The window features are exactly the quantities of the integrated translational dynamics
 /// m (v_k - v_j) = int (T z_I - m g e_z) dt, so the network learns the map from thrust and
-/// acceleration to mass plus corrections (noise, thrust-command lag, attitude noise); the
-/// finite difference over >= 0.25 s keeps the velocity noise of the measured v small.
+/// acceleration to mass. Short windows follow mass steps quickly but carry the velocity noise
+/// (sqrt(2) sigma_v / D), long ones are smooth but lag a step by D; the network weighs them.
+/// The windows were chosen on held-out runs of the study (README, "Data-driven methods").
 
 #include <Eigen/Core>
 #include <deque>
@@ -32,9 +33,9 @@ namespace vid::massid::elm {
 
 /// @brief Feature definition.
 struct FeatureConfig {
-  std::vector<double> windows{0.25, 0.5, 1.0};  ///< finite-difference windows [s], ascending
+  std::vector<double> windows{0.05, 0.1, 0.2, 0.4};  ///< finite-difference windows [s], ascending
   bool physics_ratio = true;                    ///< add m_D per window
-  int train_stride = 5;  ///< training uses every stride-th sample of a run (neighbours are
+  int train_stride = 2;  ///< training uses every stride-th sample of a run (neighbours are
                          ///< near-duplicates at 100 Hz); prediction uses every sample
   /// @brief Number of inputs d.
   int dimension() const { return static_cast<int>(windows.size()) * (physics_ratio ? 7 : 6) + 7; }
