@@ -29,6 +29,10 @@ int main(int argc, char** argv) {
     else if (k == "v") tune.sigma_v_rw = v;
     else if (k == "m") tune.sigma_m_rw_rel = v;
     else if (k == "m0") tune.sigma_m0_rel = v;
+    else if (k == "thr") tune.change_threshold = v;
+    else if (k == "tau") tune.change_tau_s = v;
+    else if (k == "cs") tune.change_sigma_rel = v;
+    else if (k == "hold") tune.change_holdoff_s = v;
     else if (k == "msckf_window") tune.msckf_window = static_cast<int>(v);
     else if (k == "swls_window") tune.swls_window = static_cast<int>(v);
     else if (k == "swls_iter") tune.swls_max_iterations = static_cast<int>(v);

@@ -6,7 +6,10 @@
 
 #include <stdexcept>
 
+#include <cmath>
+
 #include "massid/filters/ekf.h"
+#include "massid/filters/mass_change_detector.h"
 #include "massid/filters/msckf.h"
 #include "massid/filters/swls.h"
 #include "massid/filters/ukf.h"
@@ -29,6 +32,7 @@ class FilterAdapter : public MassEstimator {
     filter_->init(initial_state(info, first), initial_covariance(tuning_, info));
     last_t_ = first.t;
     u_ = QuadrotorMassModel::input_of(first);
+    detector_ = MassChangeDetector(tuning_.change_tau_s, tuning_.change_threshold, tuning_.change_holdoff_s);
   }
 
   double update(const MassIdSample& s) override {
@@ -36,7 +40,19 @@ class FilterAdapter : public MassEstimator {
     // The first sample (already used by reset) or a repeated time brings nothing new.
     if (!(dt > 0.0)) return filter_->state().mass_kg;
     filter_->predict(u_, dt, process_covariance(tuning_, info_.initial_mass_guess, dt));
-    correct(QuadrotorMassModel::meas_of(s));
+    const QuadMassMeas y = QuadrotorMassModel::meas_of(s);
+    if (tuning_.mass_change_detection) {
+      const QuadrotorMassModel::StateMat P = filter_->covariance();
+      const double nu = thrust_axis_innovation(filter_->state(), P.block<3, 3>(qm_idx::kV, qm_idx::kV),
+                                               y.v_WI, std::sqrt(R_(6, 6)));
+      if (detector_.update(s.t, dt, nu)) {
+        const double sm = tuning_.change_sigma_rel * filter_->state().mass_kg;
+        QuadrotorMassModel::StateMat dQ = QuadrotorMassModel::StateMat::Zero();
+        dQ(qm_idx::kM, qm_idx::kM) = sm * sm;
+        filter_->add_covariance(dQ);
+      }
+    }
+    correct(y);
     last_t_ = s.t;
     u_ = QuadrotorMassModel::input_of(s);
     return filter_->state().mass_kg;
@@ -54,6 +70,7 @@ class FilterAdapter : public MassEstimator {
   std::unique_ptr<Filter> filter_;
   double last_t_ = 0.0;
   QuadMassInput u_;
+  MassChangeDetector detector_;
 };
 
 class EkfEstimator final : public FilterAdapter<ManifoldEkf<QuadrotorMassModel>> {

@@ -3,6 +3,7 @@
 set(MASSID_FILTER_SOURCES
   ${CMAKE_CURRENT_LIST_DIR}/quadrotor_mass_model.cpp
   ${CMAKE_CURRENT_LIST_DIR}/tuning.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/mass_change_detector.cpp
   ${CMAKE_CURRENT_LIST_DIR}/msckf.cpp
   ${CMAKE_CURRENT_LIST_DIR}/swls_residuals.cpp
   ${CMAKE_CURRENT_LIST_DIR}/swls.cpp

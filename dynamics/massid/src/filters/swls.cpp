@@ -9,9 +9,11 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <deque>
 #include <stdexcept>
 
+#include "massid/filters/mass_change_detector.h"
 #include "vio_core/so3.h"
 
 namespace vid::massid {
@@ -109,8 +111,11 @@ struct SlidingWindowLs::Impl {
   QuadMassInput u_prev;
   QuadMassState newest;
   int n_marginalized = 0;
+  MassChangeDetector detector;
 
-  Impl(const ModelBasedTuning& t, const RunInfo& i) : tuning(t), info(i), model(i.gravity) {
+  Impl(const ModelBasedTuning& t, const RunInfo& i)
+      : tuning(t), info(i), model(i.gravity),
+        detector(t.change_tau_s, t.change_threshold, t.change_holdoff_s) {
     R = measurement_covariance(t, i);
     ceres::Problem::Options po;
     po.enable_fast_removal = true;
@@ -217,9 +222,19 @@ struct SlidingWindowLs::Impl {
     }
     const double dt = s.t - t_prev;
     if (!(dt > 0.0)) return newest;  // repeated or out-of-order sample: nothing new
-    const SwlsPreintegration pre = make_preintegration(tuning, info, u_prev, dt);
+    SwlsPreintegration pre = make_preintegration(tuning, info, u_prev, dt);
     Node* prev = nodes.back().get();
     const QuadMassState guess = model.propagate(swls_unpack(prev->x.data()), u_prev, dt);
+    if (tuning.mass_change_detection) {
+      // Same detector as the filters; predicted velocity variance ~ one step of random walk.
+      const double pv = tuning.sigma_v_rw * tuning.sigma_v_rw * dt;
+      const double nu = thrust_axis_innovation(guess, pv * Eigen::Matrix3d::Identity(), s.v_WI,
+                                               std::sqrt(R(6, 6)));
+      if (detector.update(s.t, dt, nu)) {
+        const double sm = tuning.change_sigma_rel * guess.mass_kg;
+        pre.mass_var += sm * sm;  // let the mass jump on this interval
+      }
+    }
     Node* n = add_node(guess, s);
     prev->dyn_cost_to_next = new DynCost(new SwlsDynamicResidual(pre, info.gravity));
     problem->AddResidualBlock(prev->dyn_cost_to_next, nullptr, prev->x.data(), n->x.data());

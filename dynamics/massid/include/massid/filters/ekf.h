@@ -44,6 +44,9 @@ class ManifoldEkf {
     return true;
   }
 
+  /// @brief Add extra process noise now (e.g. a detected abrupt change).
+  void add_covariance(const StateCov& dQ) { P_ += dQ; }
+
   const State& state() const { return x_; }
   const StateCov& covariance() const { return P_; }
   const Model& model() const { return model_; }

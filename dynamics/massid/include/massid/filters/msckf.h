@@ -32,6 +32,9 @@ class WindowMsckf {
   /// stacked update. @return true when an update was applied.
   bool update(const QuadMassMeas& y, const Eigen::Matrix<double, 9, 9>& R);
 
+  /// @brief Add extra process noise to the current state (e.g. a detected abrupt change).
+  void add_covariance(const Model::StateMat& dQ) { P_.topLeftCorner<10, 10>() += dQ; }
+
   const QuadMassState& state() const { return x_; }
   Model::StateMat covariance() const { return P_.topLeftCorner<10, 10>(); }
   int clone_count() const { return static_cast<int>(clones_.size()); }

@@ -18,11 +18,16 @@ struct ModelBasedTuning {
   double sigma_theta_rw = 0.005;   ///< attitude random walk [rad/sqrt(s)] (body-rate tracking error)
   double sigma_p_rw = 0.003;      ///< position random walk [m/sqrt(s)]
   double sigma_v_rw = 0.1;        ///< velocity random walk [m/s/sqrt(s)] (thrust error, drag)
-  double sigma_m_rw_rel = 0.035;   ///< mass random walk [fraction of the initial guess / sqrt(s)]
+  double sigma_m_rw_rel = 0.025;   ///< mass random walk [fraction of the initial guess / sqrt(s)]
   double sigma_m0_rel = 0.3;      ///< initial mass sigma [fraction of the initial guess]
   double min_sigma_q = 1e-3;      ///< floors when a run declares zero measurement noise
   double min_sigma_p = 1e-3;
   double min_sigma_v = 1e-3;
+  bool mass_change_detection = true;  ///< inflate the mass variance on a detected step
+  double change_tau_s = 0.1;      ///< detector EWMA time constant [s]
+  double change_threshold = 3.0;  ///< detector threshold [EWMA standard deviations]
+  double change_holdoff_s = 0.3;  ///< minimum time between detections [s]
+  double change_sigma_rel = 0.3;  ///< added mass sigma on a detection [fraction of the estimate]
   int msckf_window = 5;           ///< MSCKF: samples per window (one stacked update per window)
   int swls_window = 6;            ///< SWLS: states in the sliding window
   int swls_max_iterations = 2;    ///< SWLS: Gauss-Newton/LM iterations per new sample

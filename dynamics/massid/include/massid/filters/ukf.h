@@ -104,6 +104,9 @@ class ManifoldUkf {
     return true;
   }
 
+  /// @brief Add extra process noise now (e.g. a detected abrupt change).
+  void add_covariance(const StateCov& dQ) { P_ += dQ; }
+
   const State& state() const { return x_; }
   const StateCov& covariance() const { return P_; }
 
