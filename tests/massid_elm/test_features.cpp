@@ -87,6 +87,23 @@ TEST(Features, StreamingEqualsBatchAndStride) {
   EXPECT_EQ(row, every.X.rows());
 }
 
+TEST(Features, PartialWindowsBeforeTheLongestIsCovered) {
+  testing::SyntheticSpec spec;
+  spec.sigma_v = 0.01;
+  const MassIdRun run = testing::make_synthetic_run(spec);
+  const FeatureConfig config;  // 0.05 .. 0.4 s at 100 Hz
+  const RunFeatures full = extract_run_features(run, config, 1);
+  const RunFeatures partial = extract_run_features(run, config, 1, true);
+  EXPECT_EQ(full.sample_index.front(), 40);
+  EXPECT_EQ(partial.sample_index.front(), 5);
+  const Eigen::Index offset = 40 - 5;
+  ASSERT_EQ(partial.X.rows(), full.X.rows() + offset);
+  EXPECT_EQ(partial.X.bottomRows(full.X.rows()), full.X);
+  // At 0.2 s the 0.4 s window spans the 0.2 s since the first sample: same as the 0.2 s window.
+  const Eigen::Index r = 20 - 5;
+  EXPECT_EQ(partial.X.row(r).segment<7>(21), partial.X.row(r).segment<7>(14));
+}
+
 TEST(Features, RejectsBadConfigAndTime) {
   FeatureConfig c;
   c.windows = {0.5, 0.25};

@@ -9,7 +9,8 @@
 
 namespace vid::massid::elm {
 
-FeatureExtractor::FeatureExtractor(FeatureConfig config) : config_(std::move(config)) {
+FeatureExtractor::FeatureExtractor(FeatureConfig config, bool partial_windows)
+    : config_(std::move(config)), partial_(partial_windows) {
   if (config_.windows.empty()) throw std::invalid_argument("FeatureConfig: no windows");
   for (size_t i = 0; i < config_.windows.size(); ++i) {
     if (!(config_.windows[i] > 0.0) || (i > 0 && !(config_.windows[i] > config_.windows[i - 1]))) {
@@ -53,7 +54,10 @@ bool FeatureExtractor::push(const MassIdSample& s, Eigen::VectorXd* x) {
   const double longest = config_.windows.back();
   // Keep the newest sample at or before t - longest, drop anything older.
   while (history_.size() >= 2 && history_[1].t <= s.t - longest) history_.pop_front();
-  if (history_.front().t > s.t - longest) return false;
+  if (history_.front().t > s.t - longest &&
+      (!partial_ || history_.front().t > s.t - config_.windows.front())) {
+    return false;
+  }
 
   x->resize(config_.dimension());
   int c = 0;
@@ -62,7 +66,8 @@ bool FeatureExtractor::push(const MassIdSample& s, Eigen::VectorXd* x) {
     // Newest entry j with t_j <= t_k - window (history is sorted by t).
     auto it = std::upper_bound(history_.begin(), history_.end(), s.t - window,
                                [](double t, const Entry& en) { return t < en.t; });
-    const Entry& j = *(it - 1);
+    // Partial mode before the window is covered: the oldest sample (shorter effective window).
+    const Entry& j = it == history_.begin() ? history_.front() : *(it - 1);
     const double dt = s.t - j.t;
     const Eigen::Vector3d a_W = (e.v_W - j.v_W) / dt + g_e;
     const Eigen::Vector3d f_W = (e.thrust_integral_W - j.thrust_integral_W) / dt;
@@ -79,8 +84,9 @@ bool FeatureExtractor::push(const MassIdSample& s, Eigen::VectorXd* x) {
   return true;
 }
 
-RunFeatures extract_run_features(const MassIdRun& run, const FeatureConfig& config, int stride) {
-  FeatureExtractor extractor(config);
+RunFeatures extract_run_features(const MassIdRun& run, const FeatureConfig& config, int stride,
+                                 bool partial_windows) {
+  FeatureExtractor extractor(config, partial_windows);
   extractor.reset(run.info.gravity);
   RunFeatures out;
   std::vector<Eigen::VectorXd> rows;

@@ -126,7 +126,7 @@ double MassModel::predict(const Eigen::VectorXd& x_raw) const {
 
 std::vector<double> MassModel::predict_run(const MassIdRun& run) const {
   std::vector<double> out(run.samples.size(), run.info.initial_mass_guess);
-  const RunFeatures f = extract_run_features(run, config_.features, 1);
+  const RunFeatures f = extract_run_features(run, config_.features, 1, /*partial_windows=*/true);
   if (f.X.rows() == 0) return out;
   const Eigen::MatrixXd H = layer_.activations(normalizer_.apply(f.X));
   const Eigen::VectorXd y = H * beta_.col(0);
@@ -138,7 +138,7 @@ std::vector<double> MassModel::predict_run(const MassIdRun& run) const {
 }
 
 ElmMassEstimator::ElmMassEstimator(std::shared_ptr<const MassModel> model)
-    : model_(std::move(model)), extractor_(model_->config().features) {}
+    : model_(std::move(model)), extractor_(model_->config().features, /*partial_windows=*/true) {}
 
 void ElmMassEstimator::reset(const RunInfo& info, const MassIdSample& first) {
   extractor_.reset(info.gravity);

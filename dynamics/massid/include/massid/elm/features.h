@@ -44,12 +44,15 @@ struct FeatureConfig {
 /// @brief Causal, streaming feature extractor (one per run).
 class FeatureExtractor {
  public:
+  /// @param partial_windows  false (training): features only once the longest window is
+  ///        covered; true (prediction): already once the shortest one is, windows not yet
+  ///        covered then span from the run's first sample (shorter, noisier averages)
   /// @throws std::invalid_argument when windows are empty, non-positive or not ascending
-  explicit FeatureExtractor(FeatureConfig config = {});
+  explicit FeatureExtractor(FeatureConfig config = {}, bool partial_windows = false);
   /// @brief Forget all samples; gravity magnitude [m/s^2] from the run's info.
   void reset(double gravity);
   /// @brief Add the next sample (strictly increasing t). Returns true and writes x (d) once
-  /// the longest window is covered; false before that.
+  /// the longest (partial mode: shortest) window is covered; false before that.
   /// @throws std::invalid_argument when t does not increase
   bool push(const MassIdSample& sample, Eigen::VectorXd* x);
   const FeatureConfig& config() const { return config_; }
@@ -61,6 +64,7 @@ class FeatureExtractor {
     Eigen::Vector3d thrust_integral_W;  ///< int_{t_0}^{t} T_cmd z_I dt [N s]
   };
   FeatureConfig config_;
+  bool partial_ = false;
   double gravity_ = 9.81;
   std::deque<Entry> history_;
   MassIdSample last_;  ///< previous sample (its commands act over the last interval)
@@ -74,7 +78,8 @@ struct RunFeatures {
 };
 
 /// @brief Run the extractor over a whole run (stride 1 = every sample).
-RunFeatures extract_run_features(const MassIdRun& run, const FeatureConfig& config, int stride);
+RunFeatures extract_run_features(const MassIdRun& run, const FeatureConfig& config, int stride,
+                                 bool partial_windows = false);
 
 /// @brief Stack the features of several runs (training stride of the config).
 /// @throws std::invalid_argument when no run yields a feature row

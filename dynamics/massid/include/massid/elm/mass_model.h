@@ -7,8 +7,9 @@
 /// z-score normalized, passed through the seeded random hidden layer, and the output weights
 /// solved by QR (elm), Cholesky of the ridge normal equations (relm, eq. 29) or the Woodbury
 /// recursion over chunks in time order (oselm, eqs. 30-38).
-/// Prediction: the estimator runs the same causal extractor online; until the longest
-/// feature window is filled it returns the run's initial mass guess.
+/// Prediction: the estimator runs the same causal extractor online; from the first shortest
+/// window on it predicts (windows not yet covered span from the run's start), before that it
+/// returns the run's initial mass guess.
 /// OSELM at test time: the true mass is never available online, so the network is frozen
 /// after training (it keeps no labels to learn from); its online character is the chunked
 /// training, whose per-sample update cost is reported.
