@@ -1,5 +1,6 @@
 // Micro-benchmarks of the estimator core: accelerometer update, one propagation step and the
-// EKF part of a visual update, on a full window (11 clones, dynamics mode: 18 + 66 states).
+// EKF part of a visual update, on a full window (11 clones; dynamics mode with the default
+// world-frame force and force-rate state: 21 + 66 states).
 #include <benchmark/benchmark.h>
 
 #include <random>
@@ -12,10 +13,13 @@
 namespace {
 using namespace vid;
 
-FilterState full_window(PropagationMode mode, int clones) {
+FilterState full_window(PropagationMode mode, int clones, ForceFrame frame = EstimatorParams{}.force_frame,
+                        double force_rate_random_walk = EstimatorParams{}.force_rate_random_walk) {
   EstimatorParams p;
   p.mode = mode;
-  FilterState s(mode == PropagationMode::kDynamics);
+  p.force_frame = frame;
+  p.force_rate_random_walk = force_rate_random_walk;
+  FilterState s(mode == PropagationMode::kDynamics, frame, force_rate_random_walk > 0.0);
   ImuState x;
   x.q_WI = so3::quat_exp(Eigen::Vector3d(0.1, -0.2, 0.3));
   s.initialize(0, x, initial_covariance(p, x.q_WI));
@@ -30,8 +34,12 @@ FilterState full_window(PropagationMode mode, int clones) {
   return s;
 }
 
+// Arg 0: clones; arg 1: 1 = world-frame force with force rate (default), 0 = body-frame
+// random walk (the seed's model).
 void BM_AccelUpdate(benchmark::State& st) {
-  FilterState s = full_window(PropagationMode::kDynamics, static_cast<int>(st.range(0)));
+  const bool world = st.range(1) != 0;
+  FilterState s = full_window(PropagationMode::kDynamics, static_cast<int>(st.range(0)),
+                              world ? ForceFrame::kWorld : ForceFrame::kBody, world ? 0.5 : 0.0);
   const Eigen::Vector3d Tm(0, 0, 9.81);
   Eigen::Vector3d a = Tm;
   for (auto _ : st) {
@@ -41,7 +49,7 @@ void BM_AccelUpdate(benchmark::State& st) {
   }
   st.counters["dim"] = s.dim();
 }
-BENCHMARK(BM_AccelUpdate)->Arg(11)->Arg(0);
+BENCHMARK(BM_AccelUpdate)->Args({11, 1})->Args({11, 0})->Args({0, 1});
 
 void BM_PropagationStep(benchmark::State& st) {
   const PropagationMode mode = st.range(0) ? PropagationMode::kDynamics : PropagationMode::kImu;
@@ -71,7 +79,7 @@ void BM_VisualEkfUpdate(benchmark::State& st) {
   std::normal_distribution<double> nd(0, 1);
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(m, s0.dim());
   for (int i = 0; i < m; ++i)
-    for (int j = 18 + i; j < s0.dim(); ++j) H(i, j) = nd(rng);  // upper-triangular like R of QR
+    for (int j = s0.imu_dim() + i; j < s0.dim(); ++j) H(i, j) = nd(rng);  // upper-triangular like R of QR
   Eigen::VectorXd r(m);
   for (int i = 0; i < m; ++i) r(i) = 1e-3 * nd(rng);
   const Eigen::MatrixXd R = Eigen::MatrixXd::Identity(m, m) * 1e-5;

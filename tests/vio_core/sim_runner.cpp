@@ -1,31 +1,79 @@
 // See sim_runner.h.
 #include "sim_runner.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <map>
 #include <memory>
+#include <random>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
+#include <unistd.h>
+
 #include "frontend/camera_model.h"
 #include "io/dataset_reader.h"
+#include "vio_core/initializer.h"
 #include "vio_core/pipeline.h"
 #include "vio_core/so3.h"
 #include "vio_core/thrust.h"
 
 namespace vid::test {
 
-std::filesystem::path ensure_sim_dataset(const std::string& preset, int seed) {
+void set_noise_free_params(EstimatorParams& p) {
+  // Small positive densities keep P well conditioned on exact data.
+  p.gyro_noise_density = 1e-5;
+  p.accel_noise_density = 1e-4;
+  p.thrust_noise_density = 1e-4;
+  p.gyro_random_walk = 1e-6;
+  p.accel_random_walk = 1e-5;
+  p.pixel_noise_px = 0.01;
+}
+
+std::filesystem::path ensure_sim_dataset(const std::string& preset, int seed, double duration_s,
+                                         bool noise_free) {
+  std::string dur;  // built stepwise: GCC 12 warns (-Wrestrict) on "_" + std::to_string(..)
+  if (duration_s > 0) {
+    dur += '_';
+    dur += std::to_string(static_cast<int>(duration_s));
+    dur += 's';
+  }
   const std::filesystem::path out = std::filesystem::path(VID_BINARY_DIR) / "vio_core_sim" /
-                                    (preset + "_seed" + std::to_string(seed));
+                                    (preset + dur + (noise_free ? "_exact" : "") + "_seed" + std::to_string(seed));
   if (std::filesystem::exists(out / "mav0" / "feat0" / "data.csv")) return out;
-  std::filesystem::create_directories(out);
-  const std::string cmd = std::string(VID_BINARY_DIR) + "/bin/vid_sim --scenario " + VID_SOURCE_DIR +
-                          "/config/sim/" + preset + ".yaml --out " + out.string() + " --seed " +
-                          std::to_string(seed) + " --features-only --quiet";
+  // Generate next to the target and rename, so that tests running in parallel never see a
+  // half-written folder (the loser of the race removes its copy).
+  const std::filesystem::path tmp = out.string() + ".tmp" + std::to_string(::getpid());
+  std::filesystem::remove_all(tmp);
+  std::filesystem::create_directories(tmp);
+  std::filesystem::path scenario = std::filesystem::path(VID_SOURCE_DIR) / "config" / "sim" / (preset + ".yaml");
+  if (noise_free) {
+    // The preset with every sensor noise off (its top-level `noise: true` switched off).
+    std::ifstream in(scenario);
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string yaml = text.str();
+    const auto at = yaml.find("\nnoise: true");
+    if (at == std::string::npos) throw std::runtime_error("no 'noise: true' line in " + scenario.string());
+    yaml.replace(at, 12, "\nnoise: false");
+    scenario = tmp.string() + ".yaml";
+    std::ofstream(scenario) << yaml;
+  }
+  std::string cmd = std::string(VID_BINARY_DIR) + "/bin/vid_sim --scenario " + scenario.string() + " --out " +
+                    tmp.string() + " --seed " + std::to_string(seed) + " --features-only --quiet";
+  if (duration_s > 0) cmd += " --duration " + std::to_string(duration_s);
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("failed: " + cmd);
+  std::error_code ec;
+  std::filesystem::rename(tmp, out, ec);
+  if (ec) std::filesystem::remove_all(tmp);
+  if (noise_free) std::filesystem::remove(tmp.string() + ".yaml");
+  if (!std::filesystem::exists(out / "mav0" / "feat0" / "data.csv")) {
+    throw std::runtime_error("no feature-level dataset at " + out.string());
+  }
   return out;
 }
 
@@ -52,13 +100,11 @@ double ate_posyaw(const std::vector<Eigen::Vector3d>& est, const std::vector<Eig
   return std::sqrt(sum / n);
 }
 
-}  // namespace
-
-SimMetrics run_on_dataset(const std::filesystem::path& folder, PropagationMode mode) {
-  io::ReaderOptions opt;
-  opt.read_images = false;
-  io::DatasetReader reader(folder, opt);
-  const io::DatasetCalibration& cal = reader.calibration();
+// The pipeline configuration used on simulator folders: the folder's own IMU, rotor and
+// vehicle calibration, ground-truth initialization, estimator defaults otherwise; diagnosis
+// overrides from the environment (vio_core_diag_sim).
+PipelineConfig sim_config(const io::DatasetCalibration& cal, PropagationMode mode,
+                          std::vector<std::unique_ptr<CameraModel>>* models) {
   PipelineConfig pc;
   EstimatorParams& p = pc.params;
   p.mode = mode;
@@ -70,7 +116,7 @@ SimMetrics run_on_dataset(const std::filesystem::path& folder, PropagationMode m
     p.accel_random_walk = cal.imu->accel_random_walk;
     p.imu_rate_hz = cal.imu->rate_hz;
   }
-  if (!cal.vehicle) throw std::runtime_error("dataset has no vehicle.yaml: " + folder.string());
+  if (!cal.vehicle) throw std::runtime_error("dataset has no vehicle.yaml");
   pc.vehicle = *cal.vehicle;
   p.gravity = pc.vehicle.gravity;
   if (cal.rotor) {
@@ -94,18 +140,30 @@ SimMetrics run_on_dataset(const std::filesystem::path& folder, PropagationMode m
   if (std::getenv("VIO_CORE_NO_ACCEL")) p.accel_update = false;
   if (const char* tn = std::getenv("VIO_CORE_THRUST_NOISE")) p.thrust_noise_density = std::atof(tn);
   pc.cameras = cal.cameras;
-  std::vector<std::unique_ptr<CameraModel>> models;
-  for (const CameraCalib& c : cal.cameras) models.push_back(CameraModel::create(c));
+  for (const CameraCalib& c : cal.cameras) models->push_back(CameraModel::create(c));
   // The presets simulate features with pixel_noise_sigma 0.5 px (config/sim/README.md); with
   // 0.5 the per-feature 95% chi2 gate rejects ~5% (consistent), with 1.0 only ~0.03%.
   if (!cal.cameras.empty()) p.pixel_noise_px = 0.5;
   if (const char* px = std::getenv("VIO_CORE_PIXEL_NOISE")) p.pixel_noise_px = std::atof(px);
   if (std::getenv("VIO_CORE_NO_FEJ")) p.use_fej = false;
+  if (std::getenv("VIO_CORE_NOISE_FREE")) set_noise_free_params(p);
   if (const char* ws = std::getenv("VIO_CORE_WINDOW")) p.window_size = std::atoi(ws);
   if (const char* sb = std::getenv("VIO_CORE_INIT_SIGMA_BA")) p.init_sigma_accel_bias = std::atof(sb);
   if (const char* fr = std::getenv("VIO_CORE_FORCE_RATE_RW")) p.force_rate_random_walk = std::atof(fr);
   if (const char* ff = std::getenv("VIO_CORE_FORCE_FRAME")) p.force_frame = force_frame_from_string(ff);
 
+  return pc;
+}
+
+}  // namespace
+
+SimMetrics run_on_dataset(const std::filesystem::path& folder, PropagationMode mode, bool noise_free) {
+  io::ReaderOptions opt;
+  opt.read_images = false;
+  io::DatasetReader reader(folder, opt);
+  std::vector<std::unique_ptr<CameraModel>> models;
+  PipelineConfig pc = sim_config(reader.calibration(), mode, &models);
+  if (noise_free) set_noise_free_params(pc.params);
   Pipeline pipe(pc);
   std::map<TimeNs, EstimateOutput> est;
   pipe.set_estimate_callback([&](const EstimateOutput& e) { est[e.t_ns] = e; });
@@ -177,6 +235,8 @@ SimMetrics run_on_dataset(const std::filesystem::path& folder, PropagationMode m
       }
       pe.push_back(e->x.p_WI);
       pg.push_back(g.p_WI);
+      m.pos_err_max_m = std::max(m.pos_err_max_m, (e->x.p_WI - g.p_WI).norm());
+      m.theta_err_max_rad = std::max(m.theta_err_max_rad, so3::boxminus(e->x.q_WI, g.q_WI).norm());
     }
   }
   if (dump) std::fclose(dump);
@@ -186,12 +246,106 @@ SimMetrics run_on_dataset(const std::filesystem::path& folder, PropagationMode m
   for (const ForceSample& f : forces) {
     if (const EstimateOutput* e = nearest(f.t_ns)) {
       const Eigen::Vector3d F_W = e->F_ext_W;
-      sum += (F_W - f.f_W_N / pc.vehicle.mass_kg).squaredNorm();
+      const double err2 = (F_W - f.f_W_N / pc.vehicle.mass_kg).squaredNorm();
+      sum += err2;
       ++n;
+      if (f.t_ns - forces.front().t_ns >= 5'000'000'000LL) {
+        m.force_err_max_after5_W = std::max(m.force_err_max_after5_W, std::sqrt(err2));
+      }
     }
   }
   m.force_rmse_W = n ? std::sqrt(sum / n) : 1e9;
   return m;
+}
+
+NeesSeries nees_on_dataset(const std::filesystem::path& folder, PropagationMode mode, unsigned init_seed) {
+  io::ReaderOptions opt;
+  opt.read_images = false;
+  std::vector<std::unique_ptr<CameraModel>> models;
+  // First pass: ground truth and true force at the start (the initial estimate's centre).
+  std::optional<GroundTruthSample> gt0;
+  std::optional<ForceSample> f0;
+  {
+    io::DatasetReader first(folder, opt);
+    while (auto meas = first.next()) {
+      if (auto* g = std::get_if<GroundTruthSample>(&*meas); g && !gt0) gt0 = *g;
+      if (auto* f = std::get_if<ForceSample>(&*meas); f && !f0) f0 = *f;
+      if (gt0 && f0) break;
+    }
+  }
+  if (!gt0 || !f0) throw std::runtime_error("nees_on_dataset: no ground truth or force0 in " + folder.string());
+  io::DatasetReader reader(folder, opt);
+  const PipelineConfig pc = sim_config(reader.calibration(), mode, &models);
+  const double mass = pc.vehicle.mass_kg;
+
+  // Initial estimate: truth perturbed by one draw from the initial covariance, so that the
+  // NEES starts chi2-distributed instead of at zero.
+  ImuState x0;
+  x0.q_WI = gt0->q_WI;
+  x0.p_WI = gt0->p_WI;
+  x0.v_WI = gt0->v_WI;
+  x0.b_g = gt0->b_g;
+  x0.b_a = gt0->b_a;
+  if (mode == PropagationMode::kDynamics) {
+    set_force_from_body(x0, pc.params.force_frame, gt0->q_WI.conjugate() * (f0->f_W_N / mass));
+  }
+  const Eigen::MatrixXd P0 = initial_covariance(pc.params, x0.q_WI);
+  std::mt19937 rng(init_seed);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  Eigen::VectorXd z(P0.rows());
+  for (int i = 0; i < z.size(); ++i) z(i) = nd(rng);
+  const Eigen::VectorXd dx = Eigen::MatrixXd(P0.llt().matrixL()) * z;
+  x0.q_WI = so3::boxplus(x0.q_WI, dx.segment<3>(imu_idx::kTheta));
+  x0.p_WI += dx.segment<3>(imu_idx::kP);
+  x0.v_WI += dx.segment<3>(imu_idx::kV);
+  x0.b_g += dx.segment<3>(imu_idx::kBg);
+  x0.b_a += dx.segment<3>(imu_idx::kBa);
+  if (P0.rows() >= 18) x0.F_ext += dx.segment<3>(imu_idx::kF);
+  if (P0.rows() >= 21) x0.F_dot += dx.segment<3>(imu_idx::kFdot);
+
+  Pipeline pipe(pc);
+  pipe.initialize(gt0->t_ns, x0, P0);
+  std::map<TimeNs, EstimateOutput> est;
+  pipe.set_estimate_callback([&](const EstimateOutput& e) { est[e.t_ns] = e; });
+  std::vector<GroundTruthSample> gt;
+  std::map<TimeNs, Eigen::Vector3d> force_W;
+  while (auto meas = reader.next()) {
+    if (auto* f = std::get_if<FeatureFrame>(&*meas)) {
+      for (FeatureObservation& o : f->observations) {
+        if (o.cam_id >= 0 && o.cam_id < static_cast<int>(models.size())) {
+          o.has_norm = models[o.cam_id]->undistort(o.uv, &o.uv_norm);
+        }
+      }
+    } else if (auto* g = std::get_if<GroundTruthSample>(&*meas)) {
+      if (gt.empty() || g->t_ns - gt.back().t_ns >= 100'000'000) gt.push_back(*g);  // 10 Hz
+      continue;  // initialized above: the pipeline does not need ground truth
+    } else if (auto* fs = std::get_if<ForceSample>(&*meas)) {
+      force_W[fs->t_ns] = fs->f_W_N / mass;
+      continue;
+    }
+    pipe.push(*meas);
+  }
+  pipe.finish();
+  NeesSeries out;
+  out.status = to_string(pipe.status());
+  for (const GroundTruthSample& g : gt) {
+    auto it = est.find(g.t_ns);  // estimates come at every IMU time; ground truth sits on them
+    auto ft = force_W.find(g.t_ns);
+    if (it == est.end() || ft == force_W.end()) continue;
+    const EstimateOutput& e = it->second;
+    const Eigen::Vector3d e_th = so3::boxminus(e.x.q_WI, g.q_WI);
+    const Eigen::Vector3d e_p = e.x.p_WI - g.p_WI;
+    out.t.push_back((g.t_ns - gt.front().t_ns) * 1e-9);
+    out.theta.push_back(e_th.dot(e.cov_theta.ldlt().solve(e_th)));
+    out.p.push_back(e_p.dot(e.cov_p.ldlt().solve(e_p)));
+    if (mode == PropagationMode::kDynamics) {
+      const Eigen::Vector3d e_F = e.F_ext_I - g.q_WI.conjugate() * ft->second;
+      out.F.push_back(e_F.dot(e.cov_F_I.ldlt().solve(e_F)));
+    } else {
+      out.F.push_back(0.0);
+    }
+  }
+  return out;
 }
 
 }  // namespace vid::test

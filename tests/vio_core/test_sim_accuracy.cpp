@@ -2,15 +2,17 @@
 // dynamics mode: ATE (position + yaw alignment) <= 0.03 m and world force RMSE <= 0.05 m/s^2;
 // imu-mode ATE on the same data is reported beside it.
 //
-// The force-RMSE tests are DISABLED: measured 0.32 / 0.34 m/s^2 (target 0.05). The
-// simulator's accelerometer noise density is 0.1 m/s^2/sqrt(Hz) (2 m/s^2 per 400 Hz sample),
-// which makes the accelerometer alone worth about sqrt(q_F * 0.1) per axis; reaching the
-// target needs the dynamics/vision path to carry most of the force information (open work).
-// Diagnosis (vio_core_diag_sim): vision sees R_WI (T_m + F_ext) and the accelerometer sees
-// F_ext + b_a, so {roll/pitch, b_a, F_ext} is weakly observable (only through yaw changes) and
-// a force-model mismatch leaks into it: on NOISE-FREE 25 s vid17_like data with
-// force_random_walk 0.1 the tilt drifts to 28 mrad and b_a to 0.26 m/s^2 (b_g stays exact),
-// and the world force error is ~g * tilt. A smoother force process model is the next step.
+// The force-RMSE tests are DISABLED: measured 0.130 / 0.206 m/s^2 (target 0.05) with the
+// default world-frame force + force-rate model (the seed's body-frame random walk: 0.32 /
+// 0.34). What is left (vio_core_diag_sim, vid17_like):
+//  * roll/pitch: vision sees R_WI T_m + F_W and the accelerometer F_I + b_a, so {tilt, b_a,
+//    F_ext} is only separated by yaw turns; the filter's own roll sigma stays 5-9 mrad, and
+//    g * 7 mrad ~ 0.07 m/s^2 of force error in y (b_a_y off by the same amount). With noise
+//    off, the tilt error is < 0.1 mrad, so this is the noise floor, not a model error;
+//  * tracking: with the tilt error removed (b_a known), 0.107 m/s^2 remains. An idealized
+//    1-D Kalman bound with perfect thrust, 1-2 mm position and this accelerometer noise gives
+//    0.09-0.11 on the same force signal (rope, dF/dt up to 6 m/s^3).
+// Reaching 0.05 needs less sensor noise than the VID-like presets simulate.
 // Run them with --gtest_also_run_disabled_tests.
 #include <gtest/gtest.h>
 
@@ -58,6 +60,19 @@ void check_force(const std::string& preset) {
 
 TEST(SimAccuracy, Vid17LikeAte) { check_ate("vid17_like"); }
 TEST(SimAccuracy, Vid18LikeAte) { check_ate("vid18_like"); }
+// Noise-free vid17_like (every sensor exact, 20 s): the filter with tiny noise densities
+// reproduces the truth: force error < 1e-3 m/s^2 after 5 s, pose error < 1 mm.
+TEST(SimAccuracy, NoiseFreeVid17LikeIsExact) {
+  const auto folder = ensure_sim_dataset("vid17_like", 1, 20.0, true);
+  const SimMetrics m = run_on_dataset(folder, PropagationMode::kDynamics, true);
+  std::printf("noise-free vid17_like: force error max (after 5 s) %.2e m/s^2, position %.2e m, "
+              "orientation %.2e rad\n", m.force_err_max_after5_W, m.pos_err_max_m, m.theta_err_max_rad);
+  EXPECT_EQ(m.status, "ok");
+  EXPECT_LT(m.force_err_max_after5_W, 1e-3);
+  EXPECT_LT(m.pos_err_max_m, 1e-3);
+  EXPECT_LT(m.theta_err_max_rad, 1e-3);
+}
+
 TEST(SimAccuracy, DISABLED_Vid17LikeForceRmse) { check_force("vid17_like"); }
 TEST(SimAccuracy, DISABLED_Vid18LikeForceRmse) { check_force("vid18_like"); }
 
