@@ -137,10 +137,13 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   W = llt.matrixL().solve(PHt.transpose()).transpose();
   const Eigen::Vector3d Linv_r = llt.matrixL().solve(r);
   state.apply_correction(W * Linv_r);
-  P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);
-  // mirror the lower triangle (column-major: copy rows of the lower part into columns)
+  // P -= W W^T one contiguous column at a time (vectorized, no cache-unfriendly mirror pass
+  // of a triangular update); P stays symmetric to round-off.
   const int n = static_cast<int>(P.rows());
-  for (int j = 0; j < n; ++j) P.row(j).tail(n - j - 1) = P.col(j).tail(n - j - 1).transpose();
+  for (int j = 0; j < n; ++j) {
+    const Eigen::Vector3d w_j = W.row(j).transpose();
+    P.col(j).noalias() -= W * w_j;
+  }
   res.applied = true;
   return res;
 }

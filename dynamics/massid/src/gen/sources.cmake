@@ -10,6 +10,3 @@ list(APPEND MASSID_GEN_SOURCES
   ${_gen}/run_simulator.cpp
   ${_gen}/study_config.cpp
   ${_gen}/dataset_generator.cpp)
-# manifest.yaml and study.yaml are read with yaml-cpp; the target does not exist yet here, so
-# the link is deferred to the end of this directory.
-cmake_language(DEFER CALL target_link_libraries vid_massid_core PRIVATE yaml-cpp Threads::Threads)
