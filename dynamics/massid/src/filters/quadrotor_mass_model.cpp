@@ -98,6 +98,21 @@ QuadMassState QuadrotorMassModel::boxplus(const State& x, const StateVec& dx) {
   return y;
 }
 
+void QuadrotorMassModel::boxplus_pm(const State& x, const StateVec& dx, State* plus,
+                                    State* minus) {
+  const Eigen::Quaterniond e = so3::quat_exp(dx.segment<3>(qm_idx::kTheta));
+  plus->q_WI = (x.q_WI * e).normalized();
+  minus->q_WI = (x.q_WI * e.conjugate()).normalized();
+  const Eigen::Vector3d dp = dx.segment<3>(qm_idx::kP);
+  const Eigen::Vector3d dv = dx.segment<3>(qm_idx::kV);
+  plus->p_WI = x.p_WI + dp;
+  minus->p_WI = x.p_WI - dp;
+  plus->v_WI = x.v_WI + dv;
+  minus->v_WI = x.v_WI - dv;
+  plus->mass_kg = x.mass_kg + dx(qm_idx::kM);
+  minus->mass_kg = x.mass_kg - dx(qm_idx::kM);
+}
+
 QuadrotorMassModel::StateVec QuadrotorMassModel::boxminus(const State& x1, const State& x0) {
   StateVec d;
   d.segment<3>(qm_idx::kTheta) = so3::boxminus(x1.q_WI, x0.q_WI);

@@ -27,7 +27,7 @@ bool kalman_correct(Eigen::Matrix<double, N, N>& P, const Eigen::Matrix<double, 
   const Eigen::Matrix<double, N, M> W =
       llt.matrixL().solve(Pxy.transpose()).transpose();
   *dx = W * llt.matrixL().solve(r);
-  P.noalias() -= W * W.transpose();
+  P.noalias() -= W.lazyProduct(W.transpose());  // small fixed size: no blocked GEMM
   P = 0.5 * (P + P.transpose()).eval();
   return true;
 }

@@ -85,6 +85,9 @@ class QuadrotorMassModel {
   MeasJac measurement_jacobian(const State& x) const;
 
   static State boxplus(const State& x, const StateVec& dx);
+  /// @brief *plus = x ⊞ dx and *minus = x ⊞ -dx with one quaternion exponential
+  /// (exp(-a/2) is the conjugate of exp(a/2)); used for the UKF's symmetric sigma points.
+  static void boxplus_pm(const State& x, const StateVec& dx, State* plus, State* minus);
   static StateVec boxminus(const State& x1, const State& x0);
   static MeasVec meas_boxminus(const Meas& y1, const Meas& y0);
 
