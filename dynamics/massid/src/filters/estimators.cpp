@@ -32,7 +32,10 @@ class FilterAdapter : public MassEstimator {
     filter_->init(initial_state(info, first), initial_covariance(tuning_, info));
     last_t_ = first.t;
     u_ = QuadrotorMassModel::input_of(first);
-    detector_ = MassChangeDetector(tuning_.change_tau_s, tuning_.change_threshold, tuning_.change_holdoff_s);
+    const bool window = name_ == "msckf";
+    detector_ = MassChangeDetector(window ? tuning_.msckf_change_tau_s : tuning_.change_tau_s,
+                                   window ? tuning_.msckf_change_threshold : tuning_.change_threshold,
+                                   tuning_.change_holdoff_s);
   }
 
   double update(const MassIdSample& s) override {

@@ -24,9 +24,13 @@ struct ModelBasedTuning {
   double min_sigma_p = 1e-3;
   double min_sigma_v = 1e-3;
   bool mass_change_detection = true;  ///< inflate the mass variance on a detected step
-  double change_tau_s = 0.1;      ///< detector EWMA time constant [s]
-  double change_threshold = 3.0;  ///< detector threshold [EWMA standard deviations]
+  double change_tau_s = 0.05;     ///< detector EWMA time constant [s]
+  double change_threshold = 2.5;  ///< detector threshold [EWMA standard deviations]
   double change_holdoff_s = 0.3;  ///< minimum time between detections [s]
+  /// MSCKF detector (its innovations come from a state left uncorrected for up to a window, so
+  /// the faster EKF/UKF/SWLS setting raises its false alarms: 3.7 % constant-mass error).
+  double msckf_change_tau_s = 0.1;
+  double msckf_change_threshold = 3.0;
   double change_sigma_rel = 0.3;  ///< added mass sigma on a detection [fraction of the estimate]
   int msckf_window = 5;           ///< MSCKF: samples per window (one stacked update per window)
   int swls_window = 6;            ///< SWLS: states in the sliding window
