@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
     else if (k == "cs") tune.change_sigma_rel = v;
     else if (k == "hold") tune.change_holdoff_s = v;
     else if (k == "mtau") tune.msckf_change_tau_s = v;
+    else if (k == "rewind") tune.change_rewind_samples = static_cast<int>(v);
     else if (k == "mthr") tune.msckf_change_threshold = v;
     else if (k == "msckf_window") tune.msckf_window = static_cast<int>(v);
     else if (k == "swls_window") tune.swls_window = static_cast<int>(v);

@@ -4,6 +4,7 @@
 /// [t_k, t_{k+1}] (zero-order hold of the commands).
 #include "massid/filters/estimators.h"
 
+#include <deque>
 #include <stdexcept>
 
 #include <cmath>
@@ -33,6 +34,8 @@ class FilterAdapter : public MassEstimator {
     last_t_ = first.t;
     u_ = QuadrotorMassModel::input_of(first);
     const bool window = name_ == "msckf";
+    rewind_samples_ = window ? 0 : tuning_.change_rewind_samples;
+    history_.clear();
     detector_ = MassChangeDetector(window ? tuning_.msckf_change_tau_s : tuning_.change_tau_s,
                                    window ? tuning_.msckf_change_threshold : tuning_.change_threshold,
                                    tuning_.change_holdoff_s);
@@ -42,8 +45,13 @@ class FilterAdapter : public MassEstimator {
     const double dt = s.t - last_t_;
     // The first sample (already used by reset) or a repeated time brings nothing new.
     if (!(dt > 0.0)) return filter_->state().mass_kg;
-    filter_->predict(u_, dt, process_covariance(tuning_, info_.initial_mass_guess, dt));
     const QuadMassMeas y = QuadrotorMassModel::meas_of(s);
+    if (rewind_samples_ > 0) {
+      // Fixed-lag history: the filter before this sample's predict, its input, step, measurement.
+      if (static_cast<int>(history_.size()) == rewind_samples_) history_.pop_front();
+      history_.push_back(Step{*filter_, u_, dt, y});
+    }
+    filter_->predict(u_, dt, process_covariance(tuning_, info_.initial_mass_guess, dt));
     if (tuning_.mass_change_detection) {
       const QuadrotorMassModel::StateMat P = filter_->covariance();
       const double nu = thrust_axis_innovation(filter_->state(), P.block<3, 3>(qm_idx::kV, qm_idx::kV),
@@ -52,7 +60,22 @@ class FilterAdapter : public MassEstimator {
         const double sm = tuning_.change_sigma_rel * filter_->state().mass_kg;
         QuadrotorMassModel::StateMat dQ = QuadrotorMassModel::StateMat::Zero();
         dQ(qm_idx::kM, qm_idx::kM) = sm * sm;
-        filter_->add_covariance(dQ);
+        if (rewind_samples_ > 0) {
+          // The step happened about one detector time constant ago: restart from the filter as
+          // it was then with the inflated mass variance and re-apply the samples since (causal:
+          // only measurements up to now), instead of inflating after the bias was absorbed.
+          *filter_ = history_.front().filter;
+          filter_->add_covariance(dQ);
+          for (std::size_t j = 0; j + 1 < history_.size(); ++j) {
+            const Step& h = history_[j];
+            filter_->predict(h.u, h.dt, process_covariance(tuning_, info_.initial_mass_guess, h.dt));
+            correct(h.y);
+          }
+          filter_->predict(u_, dt, process_covariance(tuning_, info_.initial_mass_guess, dt));
+          history_.clear();
+        } else {
+          filter_->add_covariance(dQ);
+        }
       }
     }
     correct(y);
@@ -71,6 +94,14 @@ class FilterAdapter : public MassEstimator {
   QuadrotorMassModel model_;
   Eigen::Matrix<double, 9, 9> R_;
   std::unique_ptr<Filter> filter_;
+  struct Step {
+    Filter filter;
+    QuadMassInput u;
+    double dt;
+    QuadMassMeas y;
+  };
+  int rewind_samples_ = 0;  ///< fixed-lag replay after a detected step (0: inflate only)
+  std::deque<Step> history_;
   double last_t_ = 0.0;
   QuadMassInput u_;
   MassChangeDetector detector_;

@@ -27,6 +27,9 @@ struct ModelBasedTuning {
   double change_tau_s = 0.05;     ///< detector EWMA time constant [s]
   double change_threshold = 2.5;  ///< detector threshold [EWMA standard deviations]
   double change_holdoff_s = 0.3;  ///< minimum time between detections [s]
+  /// EKF/UKF: on a detection, restart from the filter this many samples back with the inflated
+  /// mass variance and re-apply those samples (0: inflate at the current sample only).
+  int change_rewind_samples = 5;
   /// MSCKF detector (its innovations come from a state left uncorrected for up to a window, so
   /// the faster EKF/UKF/SWLS setting raises its false alarms: 3.7 % constant-mass error).
   double msckf_change_tau_s = 0.1;
