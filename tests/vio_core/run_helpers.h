@@ -1,10 +1,9 @@
 #pragma once
 // Run the pipeline over a synthetic sequence and collect errors against the analytic truth.
-#include <Eigen/Cholesky>
 #include <map>
-#include <random>
 #include <vector>
 
+#include "consistency.h"
 #include "synthetic.h"
 #include "vio_core/initializer.h"
 #include "vio_core/pipeline.h"
@@ -56,17 +55,9 @@ inline RunResult run_pipeline(const SynthConfig& c, const SynthData& d, const Pi
     ImuState x0 = initial_state(c);
     const Eigen::MatrixXd P0 = initial_covariance(pc.params, x0.q_WI);
     if (init_seed != 0) {
-      std::mt19937 rng(init_seed);
-      std::normal_distribution<double> nd(0.0, 1.0);
-      Eigen::VectorXd z(P0.rows());
-      for (int i = 0; i < z.size(); ++i) z(i) = nd(rng);
-      const Eigen::VectorXd dx = Eigen::MatrixXd(P0.llt().matrixL()) * z;
-      x0.q_WI = so3::boxplus(x0.q_WI, dx.segment<3>(imu_idx::kTheta));
-      x0.p_WI += dx.segment<3>(imu_idx::kP);
-      x0.v_WI += dx.segment<3>(imu_idx::kV);
-      x0.b_g = c.b_g + dx.segment<3>(imu_idx::kBg);
-      x0.b_a = c.b_a + dx.segment<3>(imu_idx::kBa);
-      if (P0.rows() == 18) x0.F_ext += dx.segment<3>(imu_idx::kF);
+      x0.b_g = c.b_g;  // around the generator's true biases
+      x0.b_a = c.b_a;
+      perturb_by_covariance(x0, P0, init_seed);
     }
     pipe.initialize(0, x0, P0);
   }

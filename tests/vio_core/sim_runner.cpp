@@ -8,13 +8,13 @@
 #include <fstream>
 #include <map>
 #include <memory>
-#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
 
 #include <unistd.h>
 
+#include "consistency.h"
 #include "frontend/camera_model.h"
 #include "io/dataset_reader.h"
 #include "vio_core/initializer.h"
@@ -100,6 +100,15 @@ double ate_posyaw(const std::vector<Eigen::Vector3d>& est, const std::vector<Eig
   return std::sqrt(sum / n);
 }
 
+// Normalized undistorted coordinates of every observation of a feature-level frame.
+void undistort(const std::vector<std::unique_ptr<CameraModel>>& models, FeatureFrame& f) {
+  for (FeatureObservation& o : f.observations) {
+    if (o.cam_id >= 0 && o.cam_id < static_cast<int>(models.size())) {
+      o.has_norm = models[o.cam_id]->undistort(o.uv, &o.uv_norm);
+    }
+  }
+}
+
 // The pipeline configuration used on simulator folders: the folder's own IMU, rotor and
 // vehicle calibration, ground-truth initialization, estimator defaults otherwise; diagnosis
 // overrides from the environment (vio_core_diag_sim).
@@ -178,11 +187,7 @@ SimMetrics run_on_dataset(const std::filesystem::path& folder, PropagationMode m
   std::vector<ForceSample> forces;
   while (auto meas = reader.next()) {
     if (auto* f = std::get_if<FeatureFrame>(&*meas)) {
-      for (FeatureObservation& o : f->observations) {
-        if (o.cam_id >= 0 && o.cam_id < static_cast<int>(models.size())) {
-          o.has_norm = models[o.cam_id]->undistort(o.uv, &o.uv_norm);
-        }
-      }
+      undistort(models, *f);
     } else if (auto* g = std::get_if<GroundTruthSample>(&*meas)) {
       gt.push_back(*g);
     } else if (auto* fs = std::get_if<ForceSample>(&*meas)) {
@@ -290,18 +295,7 @@ NeesSeries nees_on_dataset(const std::filesystem::path& folder, PropagationMode 
     set_force_from_body(x0, pc.params.force_frame, gt0->q_WI.conjugate() * (f0->f_W_N / mass));
   }
   const Eigen::MatrixXd P0 = initial_covariance(pc.params, x0.q_WI);
-  std::mt19937 rng(init_seed);
-  std::normal_distribution<double> nd(0.0, 1.0);
-  Eigen::VectorXd z(P0.rows());
-  for (int i = 0; i < z.size(); ++i) z(i) = nd(rng);
-  const Eigen::VectorXd dx = Eigen::MatrixXd(P0.llt().matrixL()) * z;
-  x0.q_WI = so3::boxplus(x0.q_WI, dx.segment<3>(imu_idx::kTheta));
-  x0.p_WI += dx.segment<3>(imu_idx::kP);
-  x0.v_WI += dx.segment<3>(imu_idx::kV);
-  x0.b_g += dx.segment<3>(imu_idx::kBg);
-  x0.b_a += dx.segment<3>(imu_idx::kBa);
-  if (P0.rows() >= 18) x0.F_ext += dx.segment<3>(imu_idx::kF);
-  if (P0.rows() >= 21) x0.F_dot += dx.segment<3>(imu_idx::kFdot);
+  perturb_by_covariance(x0, P0, init_seed);
 
   Pipeline pipe(pc);
   pipe.initialize(gt0->t_ns, x0, P0);
@@ -311,11 +305,7 @@ NeesSeries nees_on_dataset(const std::filesystem::path& folder, PropagationMode 
   std::map<TimeNs, Eigen::Vector3d> force_W;
   while (auto meas = reader.next()) {
     if (auto* f = std::get_if<FeatureFrame>(&*meas)) {
-      for (FeatureObservation& o : f->observations) {
-        if (o.cam_id >= 0 && o.cam_id < static_cast<int>(models.size())) {
-          o.has_norm = models[o.cam_id]->undistort(o.uv, &o.uv_norm);
-        }
-      }
+      undistort(models, *f);
     } else if (auto* g = std::get_if<GroundTruthSample>(&*meas)) {
       if (gt.empty() || g->t_ns - gt.back().t_ns >= 100'000'000) gt.push_back(*g);  // 10 Hz
       continue;  // initialized above: the pipeline does not need ground truth

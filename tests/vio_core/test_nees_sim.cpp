@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "consistency.h"
 #include "sim_runner.h"
 
 namespace {
@@ -19,18 +20,6 @@ using namespace vid::test;
 
 constexpr int kRuns = 20;
 constexpr double kDuration = 60.0;
-
-// Two-sided 95% band of the mean of `runs` chi2(3) samples: chi2(3 runs) quantiles / runs
-// (Wilson-Hilferty, < 0.5% error at these dof).
-std::pair<double, double> band(int runs) {
-  const double k = 3.0 * runs;
-  auto q = [k](double z) {
-    const double a = 2.0 / (9.0 * k);
-    const double c = 1.0 - a + z * std::sqrt(a);
-    return k * c * c * c;
-  };
-  return {q(-1.959963984540054) / runs, q(1.959963984540054) / runs};
-}
 
 double fraction_inside(const std::vector<double>& t, const std::vector<double>& v, double lo, double hi) {
   int n = 0, inside = 0;
@@ -65,7 +54,7 @@ void run_mode(PropagationMode mode) {
   avg.theta.resize(avg.t.size());
   avg.p.resize(avg.t.size());
   avg.F.resize(avg.t.size());
-  const auto [lo, hi] = band(kRuns);
+  const auto [lo, hi] = nees_band(kRuns);
   const std::filesystem::path dir = std::filesystem::path(VID_BINARY_DIR) / "vio_core_nees";
   std::filesystem::create_directories(dir);
   std::ofstream csv(dir / ("nees_vid17_like_" + to_string(mode) + ".csv"));

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "consistency.h"
 #include "run_helpers.h"
 
 namespace {
@@ -17,18 +18,6 @@ using namespace vid::test;
 bool ci() {
   const char* v = std::getenv("CI");
   return v != nullptr && std::string(v) == "true";
-}
-
-// Two-sided 95% band of the average of N chi2(3) samples: chi2(3N) quantiles / N
-// (Wilson-Hilferty, accurate to < 0.5% for these dof).
-std::pair<double, double> band(int runs) {
-  const double k = 3.0 * runs;
-  auto q = [k](double z) {
-    const double a = 2.0 / (9.0 * k);
-    const double c = 1.0 - a + z * std::sqrt(a);
-    return k * c * c * c;
-  };
-  return {q(-1.959963984540054) / runs, q(1.959963984540054) / runs};
 }
 
 struct NeesCurves {
@@ -84,7 +73,7 @@ void run_mode(PropagationMode mode) {
   const int runs = ci() ? 10 : 20;
   const double duration = 15.0;
   const NeesCurves c = monte_carlo(mode, runs, duration);
-  const auto [lo, hi] = band(runs);
+  const auto [lo, hi] = nees_band(runs);
   const std::filesystem::path dir = std::filesystem::path(VID_BINARY_DIR) / "vio_core_nees";
   std::filesystem::create_directories(dir);
   std::ofstream csv(dir / ("nees_synthetic_" + to_string(mode) + ".csv"));

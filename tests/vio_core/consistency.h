@@ -1,0 +1,42 @@
+#pragma once
+// Helpers shared by the consistency (NEES) tests on synthetic and simulator data.
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <random>
+#include <utility>
+
+#include "vio_core/so3.h"
+#include "vio_core/state.h"
+
+namespace vid::test {
+
+/// Two-sided 95% band of the mean of `runs` chi2(3) samples: chi2(3 runs) quantiles / runs
+/// (Wilson-Hilferty, < 0.5% error at these dof).
+inline std::pair<double, double> nees_band(int runs) {
+  const double k = 3.0 * runs;
+  auto q = [k](double z) {
+    const double a = 2.0 / (9.0 * k);
+    const double c = 1.0 - a + z * std::sqrt(a);
+    return k * c * c * c;
+  };
+  return {q(-1.959963984540054) / runs, q(1.959963984540054) / runs};
+}
+
+/// Perturb x by one draw from N(0, P) (error-state layout of the IMU block, any of 15 / 18 /
+/// 21 dims), so that an initial estimate is honestly distributed around the truth.
+inline void perturb_by_covariance(ImuState& x, const Eigen::MatrixXd& P, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  Eigen::VectorXd z(P.rows());
+  for (int i = 0; i < z.size(); ++i) z(i) = nd(rng);
+  const Eigen::VectorXd dx = Eigen::MatrixXd(P.llt().matrixL()) * z;
+  x.q_WI = so3::boxplus(x.q_WI, dx.segment<3>(imu_idx::kTheta));
+  x.p_WI += dx.segment<3>(imu_idx::kP);
+  x.v_WI += dx.segment<3>(imu_idx::kV);
+  x.b_g += dx.segment<3>(imu_idx::kBg);
+  x.b_a += dx.segment<3>(imu_idx::kBa);
+  if (P.rows() >= 18) x.F_ext += dx.segment<3>(imu_idx::kF);
+  if (P.rows() >= 21) x.F_dot += dx.segment<3>(imu_idx::kFdot);
+}
+
+}  // namespace vid::test
