@@ -4,9 +4,11 @@
 ///
 /// Mean: rotation integrated in closed form with the interval's mid-point rate
 /// (R_{k+1} = R_k Exp((w_mid - b_g) dt), exact for a constant rate), translation with RK4 on
-/// p' = v, v' = R(t) a(t) + g, where a(t) is linearly interpolated between the interval's
-/// end samples (imu: a_m - b_a; dynamics: T_m + F_ext) and R(t) at the RK4 stage times is the
-/// closed-form rotation. Because v' does not depend on p or v, RK4 reduces to Simpson's rule.
+/// p' = v, v' = R(t) a(t) + o(t), where a(t) is linearly interpolated between the interval's
+/// end samples (imu: a_m - b_a; dynamics: T_m, plus F_I for a body-frame force) and
+/// o(t) = g (plus F_W for a world-frame force); with the force-rate state the force is
+/// F_k + F_dot s over the interval and F_{k+1} = F_k + F_dot dt. R(t) at the RK4 stage times is
+/// the closed-form rotation. Because v' does not depend on p or v, RK4 reduces to Simpson's rule.
 ///
 /// Covariance: the exact Jacobians Phi = d x_{k+1} / d x_k and G = d x_{k+1} / d n of this
 /// discrete map, with FEJ on the orientation/position/velocity columns (OpenVINS idea written
