@@ -1,19 +1,8 @@
 #include "replay/prefetch.h"
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
+#include "frontend/image_decode.h"
 
 namespace vid::replay {
-
-cv::Mat decode_gray8(const std::string& path) {
-  cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (img.empty()) return img;
-  if (img.depth() == CV_16U) img.convertTo(img, CV_8U, 1.0 / 256.0);
-  if (img.depth() != CV_8U) return {};
-  if (img.channels() == 3) cv::cvtColor(img, img, cv::COLOR_BGR2GRAY);
-  if (img.channels() == 4) cv::cvtColor(img, img, cv::COLOR_BGRA2GRAY);
-  return img;
-}
 
 Prefetcher::Prefetcher(io::DatasetReader& reader, double start_s, double end_s, std::size_t capacity)
     : reader_(reader), start_s_(start_s), end_s_(end_s), capacity_(capacity), thread_([this] { run(); }) {}

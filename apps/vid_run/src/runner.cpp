@@ -6,13 +6,12 @@
 #include <fstream>
 #include <map>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <vector>
 
 #include "app/progress.h"
 #include "frontend/camera_model.h"
+#include "frontend/image_decode.h"
 #include "frontend/klt_tracker.h"
 #include "io/dataset_reader.h"
 #include "runner/run_session.h"
@@ -46,17 +45,6 @@ std::optional<TimeNs> last_timestamp(const fs::path& csv) {
   } catch (...) {
     return std::nullopt;
   }
-}
-
-/// Decode one image as 8-bit gray; empty Mat when unreadable.
-cv::Mat decode_gray8(const std::string& path) {
-  cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (img.empty()) return img;
-  if (img.depth() == CV_16U) img.convertTo(img, CV_8U, 1.0 / 256.0);
-  if (img.depth() != CV_8U) return {};
-  if (img.channels() == 3) cv::cvtColor(img, img, cv::COLOR_BGR2GRAY);
-  if (img.channels() == 4) cv::cvtColor(img, img, cv::COLOR_BGRA2GRAY);
-  return img;
 }
 
 EstimateRow to_row(const EstimateOutput& e) {

@@ -55,8 +55,4 @@ class Prefetcher {
   std::thread thread_;
 };
 
-/// @brief Decode one image file as 8-bit gray (16-bit scaled down, colour converted); empty
-/// Mat when unreadable. The same conversion as vid_run.
-cv::Mat decode_gray8(const std::string& path);
-
 }  // namespace vid::replay
