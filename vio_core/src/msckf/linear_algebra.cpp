@@ -49,6 +49,54 @@ void nullspace_project(const Eigen::MatrixXd& H_f, Eigen::MatrixXd* H_x, Eigen::
   *r = r->tail(m - 3).eval();
 }
 
+void NullspaceProjector::compute(const Eigen::Ref<const Eigen::MatrixXd>& H_f) {
+  if (H_f.cols() != 3 || H_f.rows() < 4) {
+    throw std::invalid_argument(std::string(__FILE__) + ": NullspaceProjector: H_f must be m x "
+                                "3 with m >= 4 (got " + std::to_string(H_f.rows()) + " x " +
+                                std::to_string(H_f.cols()) + ")");
+  }
+  qr_.compute(H_f);
+}
+
+void NullspaceProjector::apply(Eigen::Ref<Eigen::MatrixXd> X) {
+  const Eigen::Index m = rows();
+  if (X.rows() != m) {
+    throw std::invalid_argument(std::string(__FILE__) + ": NullspaceProjector::apply: operand "
+                                "has " + std::to_string(X.rows()) + " rows, H_f has " +
+                                std::to_string(m));
+  }
+  work_.resize(X.cols());
+  const Eigen::MatrixXd& v = qr_.matrixQR();
+  for (Eigen::Index k = 0; k < 3; ++k) {
+    X.bottomRows(m - k).applyHouseholderOnTheLeft(v.col(k).tail(m - k - 1), qr_.hCoeffs()(k),
+                                                  work_.data());
+  }
+}
+
+void NullspaceProjector::project_symmetric(Eigen::Ref<Eigen::MatrixXd> S) {
+  const Eigen::Index m = rows();
+  if (S.rows() != m || S.cols() != m) {
+    throw std::invalid_argument(std::string(__FILE__) + ": NullspaceProjector::project_symmetric:"
+                                " S must be " + std::to_string(m) + " x " + std::to_string(m));
+  }
+  // With H = I - tau v v^T (v(0) = 1) acting on the trailing block T:
+  // H T H = T - v w^T - w v^T, p = tau T v, w = p - (tau / 2) (v^T p) v.
+  // Rows/cols before k never reach the kept (m-3) x (m-3) block, so each reflector only
+  // touches the trailing (m-k) x (m-k) block.
+  const Eigen::MatrixXd& qrm = qr_.matrixQR();
+  for (Eigen::Index k = 0; k < 3; ++k) {
+    const Eigen::Index len = m - k;
+    const double tau = qr_.hCoeffs()(k);
+    v_.resize(len);
+    v_(0) = 1.0;
+    v_.tail(len - 1) = qrm.col(k).tail(len - 1);
+    auto T = S.bottomRightCorner(len, len);
+    w_.noalias() = tau * (T.selfadjointView<Eigen::Lower>() * v_);
+    w_ -= (0.5 * tau * v_.dot(w_)) * v_;
+    T.selfadjointView<Eigen::Lower>().rankUpdate(v_, w_, -1.0);
+  }
+}
+
 void compress_qr(Eigen::MatrixXd* H, Eigen::VectorXd* r) {
   const Eigen::Index m = H->rows();
   const Eigen::Index n = H->cols();

@@ -10,6 +10,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "vio_core/msckf/innovation.h"
 #include "vio_core/msckf/linear_algebra.h"
 #include "vio_core/msckf/projection.h"
 #include "vio_core/msckf/triangulation.h"
@@ -57,12 +58,6 @@ void check_inputs(const std::vector<ClonePose>& clones,
   }
   if (!(params.sigma_norm > 0.0)) bad_input("sigma_norm must be > 0");
   if (!(params.chi2_multiplier > 0.0)) bad_input("chi2_multiplier must be > 0");
-}
-
-/// Adds observation (rows 2a, 2a+1) to the block-sparse product rows HP = H_x * P_T.
-void accumulate_hp(const Eigen::Matrix<double, 2, 6>& J, int offset, const Eigen::MatrixXd& P_T,
-                   Eigen::Ref<Eigen::MatrixXd> hp_rows) {
-  hp_rows.noalias() += J * P_T.middleRows(offset, 6);
 }
 
 }  // namespace
@@ -166,10 +161,13 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(use_qr ? 0 : K, use_qr ? 0 : K);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(use_qr ? 0 : K);
 
-  // Buffers reused across features.
+  // Buffers reused across features (no per-feature allocation once warmed up).
   std::vector<CameraRay> rays;
-  std::vector<ProjectionJacobians> jac;
-  Eigen::MatrixXd H_x, H_f, HP, S, F;
+  std::vector<ObservationBlocks> blocks;
+  InnovationScratch scratch;
+  NullspaceProjector projector;
+  Eigen::MatrixXd H_x, H_f, S;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> G;
   Eigen::VectorXd r, r_o;
   for (std::size_t f = 0; f < tracks.size(); ++f) {
     const std::vector<ObsRef>& obs = obs_of[f];
@@ -194,75 +192,63 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
     // Residuals at current values, Jacobians at first estimates.
     H_f.resize(2 * m, 3);
     r.resize(2 * m);
-    jac.resize(m);
+    blocks.resize(m);
     bool ok = true;
     for (int a = 0; a < m && ok; ++a) {
       const ClonePose& c = clones[obs[a].clone];
       const Eigen::Isometry3d& T_IC = extrinsics[obs[a].cam].T_IC;
       Eigen::Vector2d z;
+      ProjectionJacobians jac;
       ok = project_point(c.R_WI, c.p_WI, T_IC, tri.p_W, &z) &&
-           project_with_jacobians(c.R_WI_fej, c.p_WI_fej, T_IC, tri.p_W, &jac[a]);
+           project_with_jacobians(c.R_WI_fej, c.p_WI_fej, T_IC, tri.p_W, &jac);
       if (!ok) break;
       r.segment<2>(2 * a) = obs[a].uv - z;
-      H_f.middleRows<2>(2 * a) = jac[a].H_feature;
+      H_f.middleRows<2>(2 * a) = jac.H_feature;
+      blocks[a].clone_col = layout.clone_offset[obs[a].clone];
+      blocks[a].ext_col = layout.ext_offset[obs[a].cam];
+      blocks[a].H_clone = jac.H_clone;
+      blocks[a].H_ext = jac.H_extrinsic;
     }
     if (!ok) {
       ++out.features_rejected_triangulation;
       continue;
     }
 
-    // S = H_x P_T H_x^T from the block structure of H_x (2x6 blocks per observation).
-    HP.setZero(2 * m, K);
-    for (int a = 0; a < m; ++a) {
-      accumulate_hp(jac[a].H_clone, layout.clone_offset[obs[a].clone], P_T,
-                    HP.middleRows(2 * a, 2));
-      const int eo = layout.ext_offset[obs[a].cam];
-      if (eo >= 0) accumulate_hp(jac[a].H_extrinsic, eo, P_T, HP.middleRows(2 * a, 2));
-    }
-    // Lower block triangle only (S is symmetric), then mirrored.
-    S.resize(2 * m, 2 * m);
-    for (int c = 0; c < m; ++c) {
-      const int rows_below = 2 * (m - c);
-      S.block(2 * c, 2 * c, rows_below, 2).noalias() =
-          HP.block(2 * c, layout.clone_offset[obs[c].clone], rows_below, 6) *
-          jac[c].H_clone.transpose();
-      const int eo = layout.ext_offset[obs[c].cam];
-      if (eo >= 0) {
-        S.block(2 * c, 2 * c, rows_below, 2).noalias() +=
-            HP.block(2 * c, eo, rows_below, 6) * jac[c].H_extrinsic.transpose();
-      }
-    }
-    S.triangularView<Eigen::StrictlyUpper>() = S.transpose();
-
-    // Left-nullspace projection; H_x only needs projecting for the QR path.
-    if (use_qr) {
-      H_x.setZero(2 * m, K);
-      for (int a = 0; a < m; ++a) {
-        H_x.block<2, 6>(2 * a, layout.clone_offset[obs[a].clone]) = jac[a].H_clone;
-        const int eo = layout.ext_offset[obs[a].cam];
-        if (eo >= 0) H_x.block<2, 6>(2 * a, eo) = jac[a].H_extrinsic;
-      }
-    } else {
-      H_x.resize(2 * m, 0);
-    }
+    // Gate: S_o = Q2^T (H_x P_T H_x^T) Q2 + sigma^2 I from the block structure of H_x (lower
+    // triangle only), chi2 = |L^-1 r_o|^2 with S_o = L L^T.
+    const int dof = 2 * m - 3;
+    innovation_covariance_lower(P_T, blocks, &S, &scratch);
+    projector.compute(H_f);
+    projector.project_symmetric(S);
     r_o = r;
-    nullspace_project(H_f, &H_x, &r_o, &S);
-    S.diagonal().array() += sigma2;
-    const Eigen::LLT<Eigen::MatrixXd> llt(S);
+    projector.apply(r_o);
+    auto S_o = S.bottomRightCorner(dof, dof);
+    S_o.diagonal().array() += sigma2;
+    const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(S_o);  // in place, lower triangle
     if (llt.info() != Eigen::Success) {
       ++out.features_rejected_chi2;
       continue;
     }
-    const double chi2 = r_o.dot(llt.solve(r_o));
-    const int dof = 2 * m - 3;
+    auto whitened = r_o.tail(dof);
+    llt.matrixL().solveInPlace(whitened);
+    const double chi2 = whitened.squaredNorm();
     if (!(chi2 <= params.chi2_multiplier * chi2_95(dof))) {
       ++out.features_rejected_chi2;
       continue;
     }
     ++out.features_used;
     if (use_qr) {
-      H_stack.middleRows(rows, dof) = H_x;
-      r_stack.segment(rows, dof) = r_o;
+      // Left-nullspace projection of H_x (only the QR path needs the rows themselves).
+      H_x.setZero(2 * m, K);
+      for (int a = 0; a < m; ++a) {
+        H_x.block<2, 6>(2 * a, blocks[a].clone_col) = blocks[a].H_clone;
+        if (blocks[a].ext_col >= 0) H_x.block<2, 6>(2 * a, blocks[a].ext_col) = blocks[a].H_ext;
+      }
+      projector.apply(H_x);
+      r_o = r;
+      projector.apply(r_o);
+      H_stack.middleRows(rows, dof) = H_x.bottomRows(dof);
+      r_stack.segment(rows, dof) = r_o.tail(dof);
       rows += dof;
       continue;
     }
@@ -270,20 +256,23 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
     // Normal equations of the projected rows without forming them:
     // H_o^T H_o = H_x^T H_x - F M^-1 F^T, H_o^T r_o = H_x^T r_perp, with F = H_x^T H_f,
     // M = H_f^T H_f and r_perp = r - H_f M^-1 H_f^T r (N N^T = I - H_f M^-1 H_f^T).
+    // F only has rows at the feature's blocks (scratch.block_col), kept compact in G.
     const Eigen::Matrix3d M = H_f.transpose() * H_f;
     const Eigen::LLT<Eigen::Matrix3d> mllt(M);
     const Eigen::VectorXd r_perp = r - H_f * mllt.solve(H_f.transpose() * r);
-    F.setZero(K, 3);
+    const int nb = static_cast<int>(scratch.block_col.size());
+    G.setZero(6 * nb, 3);
     for (int a = 0; a < m; ++a) {
-      const int co = layout.clone_offset[obs[a].clone];
-      const int eo = layout.ext_offset[obs[a].cam];
-      const auto& Jc = jac[a].H_clone;
+      const ObservationBlocks& ob = blocks[a];
+      const int co = ob.clone_col;
+      const int eo = ob.ext_col;
+      const auto& Jc = ob.H_clone;
       const auto Jf = H_f.middleRows<2>(2 * a);
       A.block<6, 6>(co, co).noalias() += Jc.transpose() * Jc;
-      F.middleRows<6>(co).noalias() += Jc.transpose() * Jf;
+      G.middleRows<6>(6 * scratch.local_clone[a]).noalias() += Jc.transpose() * Jf;
       b.segment<6>(co).noalias() += Jc.transpose() * r_perp.segment<2>(2 * a);
       if (eo >= 0) {
-        const auto& Je = jac[a].H_extrinsic;
+        const auto& Je = ob.H_ext;
         A.block<6, 6>(eo, eo).noalias() += Je.transpose() * Je;
         // Cross block in the lower triangle.
         if (eo > co) {
@@ -291,13 +280,22 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
         } else {
           A.block<6, 6>(co, eo).noalias() += Jc.transpose() * Je;
         }
-        F.middleRows<6>(eo).noalias() += Je.transpose() * Jf;
+        G.middleRows<6>(6 * scratch.local_ext[a]).noalias() += Je.transpose() * Jf;
         b.segment<6>(eo).noalias() += Je.transpose() * r_perp.segment<2>(2 * a);
       }
     }
-    // F M^-1 F^T = (F L^-T)(F L^-T)^T with M = L L^T.
-    mllt.matrixU().solveInPlace<Eigen::OnTheRight>(F);
-    A.selfadjointView<Eigen::Lower>().rankUpdate(F, -1.0);
+    // F M^-1 F^T = (F L^-T)(F L^-T)^T with M = L L^T, block by block into the lower triangle.
+    mllt.matrixU().solveInPlace<Eigen::OnTheRight>(G);
+    for (int i = 0; i < nb; ++i) {
+      const Eigen::Matrix<double, 6, 3> G_i = G.middleRows<6>(6 * i);
+      for (int j = 0; j < nb; ++j) {
+        const int ci = scratch.block_col[i];
+        const int cj = scratch.block_col[j];
+        if (ci < cj) continue;
+        const Eigen::Matrix<double, 6, 3> G_j = G.middleRows<6>(6 * j);
+        A.block<6, 6>(ci, cj).noalias() -= G_i * G_j.transpose();
+      }
+    }
   }
 
   Eigen::MatrixXd H_c;

@@ -4,6 +4,7 @@
 /// QR measurement compression, and the chi2 quantile used by the gate.
 
 #include <Eigen/Core>
+#include <Eigen/QR>
 
 namespace vid::msckf {
 
@@ -13,6 +14,28 @@ namespace vid::msckf {
 /// Throws std::invalid_argument if H_f has fewer than 4 rows or not 3 columns.
 void nullspace_project(const Eigen::MatrixXd& H_f, Eigen::MatrixXd* H_x, Eigen::VectorXd* r,
                        Eigen::MatrixXd* S = nullptr);
+
+/// @brief The same left-nullspace projection as nullspace_project, split so that one
+/// factorization of H_f serves several operands without temporaries: compute() factors H_f
+/// (m x 3, m >= 4) into three Householder reflectors, apply() forms Q^T X in place, and
+/// project_symmetric() forms Q2^T S Q2 of a symmetric S from its lower triangle.
+class NullspaceProjector {
+ public:
+  /// @brief Factor H_f. Throws std::invalid_argument unless H_f is m x 3 with m >= 4.
+  void compute(const Eigen::Ref<const Eigen::MatrixXd>& H_f);
+  /// @brief Rows of H_f (m).
+  Eigen::Index rows() const { return qr_.rows(); }
+  /// @brief X (m rows) <- Q^T X; the nullspace part is X.bottomRows(m - 3).
+  void apply(Eigen::Ref<Eigen::MatrixXd> X);
+  /// @brief Two-sided projection of a symmetric m x m S given by its lower triangle: afterwards
+  /// the lower triangle of S.bottomRightCorner(m - 3, m - 3) holds Q2^T S Q2 (each reflector
+  /// is applied as one symmetric rank-2 update; the rest of S is scratch).
+  void project_symmetric(Eigen::Ref<Eigen::MatrixXd> S);
+
+ private:
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
+  Eigen::VectorXd v_, w_, work_;
+};
 
 /// @brief Replace (H, r) (m x n) by (R, Q1^T r) with min(m, n) rows, H = Q R (Householder).
 /// Keeps H^T H and H^T r unchanged. No-op when m <= n.
