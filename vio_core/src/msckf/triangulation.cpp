@@ -20,6 +20,28 @@ struct RelativePose {
   Eigen::Vector3d c_A;   ///< position of C's centre in A
 };
 
+/// Inlined kernel of inverse_depth_projection (same math, written out for the hot loop).
+inline bool project_inverse_depth(const Eigen::Vector3d& abr, const Eigen::Matrix3d& R_CA,
+                                  const Eigen::Vector3d& p_CA, Eigen::Vector2d* z,
+                                  Eigen::Matrix<double, 2, 3>* J) {
+  // h = rho * p_C = R_CA [alpha, beta, 1] + rho p_CA; z = h.xy / h.z (rho > 0 assumed).
+  const Eigen::Vector3d h =
+      R_CA.col(0) * abr.x() + R_CA.col(1) * abr.y() + R_CA.col(2) + p_CA * abr.z();
+  if (!(h.z() > 1e-12)) return false;
+  const double inv_z = 1.0 / h.z();
+  *z = h.head<2>() * inv_z;
+  if (J != nullptr) {
+    // J = dz/dh * [R_CA.col(0), R_CA.col(1), p_CA], dz/dh = inv_z [1 0 -z.x; 0 1 -z.y].
+    for (int r = 0; r < 2; ++r) {
+      const double zr = (*z)(r);
+      (*J)(r, 0) = inv_z * (R_CA(r, 0) - zr * R_CA(2, 0));
+      (*J)(r, 1) = inv_z * (R_CA(r, 1) - zr * R_CA(2, 1));
+      (*J)(r, 2) = inv_z * (p_CA(r) - zr * p_CA(2));
+    }
+  }
+  return true;
+}
+
 double reprojection_cost(const std::vector<CameraRay>& rays,
                          const std::vector<RelativePose>& rel, const Eigen::Vector3d& abr,
                          double* max_err) {
@@ -27,7 +49,7 @@ double reprojection_cost(const std::vector<CameraRay>& rays,
   double worst = 0.0;
   for (std::size_t i = 0; i < rays.size(); ++i) {
     Eigen::Vector2d z;
-    if (!inverse_depth_projection(abr, rel[i].R_CA, rel[i].p_CA, &z, nullptr)) {
+    if (!project_inverse_depth(abr, rel[i].R_CA, rel[i].p_CA, &z, nullptr)) {
       return std::numeric_limits<double>::infinity();
     }
     const double e = (rays[i].uv_norm - z).norm();
@@ -38,24 +60,35 @@ double reprojection_cost(const std::vector<CameraRay>& rays,
   return cost;
 }
 
+/// Cost (as reprojection_cost) and Gauss-Newton system H = sum J^T J, g = sum J^T e at abr in
+/// one pass; infinite cost (H, g unspecified) if a projection fails.
+double cost_and_normal_equations(const std::vector<CameraRay>& rays,
+                                 const std::vector<RelativePose>& rel, const Eigen::Vector3d& abr,
+                                 Eigen::Matrix3d* H, Eigen::Vector3d* g) {
+  double cost = 0.0;
+  H->setZero();
+  g->setZero();
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    Eigen::Vector2d z;
+    Eigen::Matrix<double, 2, 3> J;
+    if (!project_inverse_depth(abr, rel[i].R_CA, rel[i].p_CA, &z, &J)) {
+      return std::numeric_limits<double>::infinity();
+    }
+    const Eigen::Vector2d e = rays[i].uv_norm - z;
+    const double en = e.norm();
+    cost += en * en;
+    H->noalias() += J.transpose() * J;
+    g->noalias() += J.transpose() * e;
+  }
+  return cost;
+}
+
 }  // namespace
 
 bool inverse_depth_projection(const Eigen::Vector3d& abr, const Eigen::Matrix3d& R_CA,
                               const Eigen::Vector3d& p_CA, Eigen::Vector2d* z,
                               Eigen::Matrix<double, 2, 3>* J) {
-  // h = rho * p_C = R_CA [alpha, beta, 1] + rho p_CA; z = h.xy / h.z (rho > 0 assumed).
-  const Eigen::Vector3d h = R_CA * Eigen::Vector3d(abr.x(), abr.y(), 1.0) + abr.z() * p_CA;
-  if (!(h.z() > 1e-12)) return false;
-  const double inv_z = 1.0 / h.z();
-  *z = h.head<2>() * inv_z;
-  if (J != nullptr) {
-    Eigen::Matrix<double, 2, 3> dz_dh;
-    dz_dh << inv_z, 0.0, -z->x() * inv_z, 0.0, inv_z, -z->y() * inv_z;
-    Eigen::Matrix3d dh_dabr;
-    dh_dabr << R_CA.col(0), R_CA.col(1), p_CA;
-    *J = dz_dh * dh_dabr;
-  }
-  return true;
+  return project_inverse_depth(abr, R_CA, p_CA, z, J);
 }
 
 TriangulationResult triangulate(const std::vector<CameraRay>& rays,
@@ -81,7 +114,9 @@ TriangulationResult triangulate(const std::vector<CameraRay>& rays,
     const Eigen::Matrix3d Pperp = Eigen::Matrix3d::Identity() - d * d.transpose();
     A += Pperp;
     b += Pperp * rel[i].c_A;
-    max_parallax = std::max(max_parallax, std::atan2(d0.cross(d).norm(), d0.dot(d)));
+    if (params.min_parallax_rad > 0.0) {  // only needed for that check
+      max_parallax = std::max(max_parallax, std::atan2(d0.cross(d).norm(), d0.dot(d)));
+    }
     max_baseline = std::max(max_baseline, rel[i].c_A.norm());
   }
 
@@ -110,18 +145,12 @@ TriangulationResult triangulate(const std::vector<CameraRay>& rays,
 
   // Gauss-Newton (Levenberg damped) in inverse depth of the anchor camera.
   Eigen::Vector3d abr(p_A0.x() / p_A0.z(), p_A0.y() / p_A0.z(), 1.0 / p_A0.z());
-  double cost = reprojection_cost(rays, rel, abr, nullptr);
+  // The system at an accepted candidate is computed together with its cost and reused.
+  Eigen::Matrix3d H;
+  Eigen::Vector3d g;
+  double cost = cost_and_normal_equations(rays, rel, abr, &H, &g);
   double lambda = 1e-6;
   for (int it = 0; it < params.gn_iterations && std::isfinite(cost); ++it) {
-    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d g = Eigen::Vector3d::Zero();
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-      Eigen::Vector2d z;
-      Eigen::Matrix<double, 2, 3> J;
-      inverse_depth_projection(abr, rel[i].R_CA, rel[i].p_CA, &z, &J);
-      H += J.transpose() * J;
-      g += J.transpose() * (rays[i].uv_norm - z);
-    }
     res.iterations = it + 1;
     const double prev_cost = cost;
     bool accepted = false;
@@ -131,11 +160,15 @@ TriangulationResult triangulate(const std::vector<CameraRay>& rays,
       Hd.diagonal() *= (1.0 + lambda);
       step = Hd.ldlt().solve(g);
       const Eigen::Vector3d cand = abr + step;
-      const double c = cand.z() > 0.0 ? reprojection_cost(rays, rel, cand, nullptr)
+      Eigen::Matrix3d H_cand;
+      Eigen::Vector3d g_cand;
+      const double c = cand.z() > 0.0 ? cost_and_normal_equations(rays, rel, cand, &H_cand, &g_cand)
                                       : std::numeric_limits<double>::infinity();
       if (c <= cost) {
         abr = cand;
         cost = c;
+        H = H_cand;
+        g = g_cand;
         lambda = std::max(lambda * 0.1, 1e-10);
         accepted = true;
       } else {
