@@ -148,11 +148,10 @@ void factor_normal_equations(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
     W(k, k) = lkk;
     const Eigen::Index rest = n - k - 1;
     W.col(k).tail(rest) /= lkk;
-    W.bottomRightCorner(rest, rest).selfadjointView<Eigen::Lower>().rankUpdate(
-        W.col(k).tail(rest), -1.0);
-    // Keep the trailing block symmetric so later row/col swaps stay valid.
-    W.bottomRightCorner(rest, rest).triangularView<Eigen::StrictlyUpper>() =
-        W.bottomRightCorner(rest, rest).transpose();
+    // Full (both triangles) update keeps the trailing block exactly symmetric, so later
+    // row/col swaps stay valid; a plain outer product vectorizes better than a triangular one.
+    W.bottomRightCorner(rest, rest).noalias() -= W.col(k).tail(rest) *
+                                                 W.col(k).tail(rest).transpose();
     ++rank;
   }
   Eigen::VectorXd pb(rank);

@@ -6,6 +6,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -58,6 +59,29 @@ void check_inputs(const std::vector<ClonePose>& clones,
   }
   if (!(params.sigma_norm > 0.0)) bad_input("sigma_norm must be > 0");
   if (!(params.chi2_multiplier > 0.0)) bad_input("chi2_multiplier must be > 0");
+}
+
+/// chi2 = r^T S^-1 r by an in-place Cholesky S = L L^T (left-looking, lower triangle; S is
+/// overwritten by L) with y = L^-1 r formed along (r is overwritten by y). False if S is not
+/// numerically positive definite.
+bool cholesky_chi2(Eigen::Ref<Eigen::MatrixXd> S, Eigen::Ref<Eigen::VectorXd> r, double* chi2) {
+  const Eigen::Index n = S.rows();
+  double sum = 0.0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    if (j > 0) {
+      S.col(j).tail(n - j).noalias() -= S.block(j, 0, n - j, j) * S.row(j).head(j).transpose();
+      r(j) -= S.row(j).head(j).dot(r.head(j));
+    }
+    const double d = S(j, j);
+    if (!(d > 0.0)) return false;
+    const double l = std::sqrt(d);
+    S(j, j) = l;
+    S.col(j).tail(n - j - 1) /= l;
+    r(j) /= l;
+    sum += r(j) * r(j);
+  }
+  *chi2 = sum;
+  return true;
 }
 
 }  // namespace
@@ -224,14 +248,11 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
     projector.apply(r_o);
     auto S_o = S.bottomRightCorner(dof, dof);
     S_o.diagonal().array() += sigma2;
-    const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(S_o);  // in place, lower triangle
-    if (llt.info() != Eigen::Success) {
+    double chi2 = 0.0;
+    if (!cholesky_chi2(S_o, r_o.tail(dof), &chi2)) {
       ++out.features_rejected_chi2;
       continue;
     }
-    auto whitened = r_o.tail(dof);
-    llt.matrixL().solveInPlace(whitened);
-    const double chi2 = whitened.squaredNorm();
     if (!(chi2 <= params.chi2_multiplier * chi2_95(dof))) {
       ++out.features_rejected_chi2;
       continue;
@@ -285,15 +306,27 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
       }
     }
     // F M^-1 F^T = (F L^-T)(F L^-T)^T with M = L L^T, block by block into the lower triangle.
-    mllt.matrixU().solveInPlace<Eigen::OnTheRight>(G);
+    const Eigen::Matrix3d L_invT = mllt.matrixU().solve(Eigen::Matrix3d::Identity());
     for (int i = 0; i < nb; ++i) {
-      const Eigen::Matrix<double, 6, 3> G_i = G.middleRows<6>(6 * i);
-      for (int j = 0; j < nb; ++j) {
-        const int ci = scratch.block_col[i];
-        const int cj = scratch.block_col[j];
-        if (ci < cj) continue;
-        const Eigen::Matrix<double, 6, 3> G_j = G.middleRows<6>(6 * j);
-        A.block<6, 6>(ci, cj).noalias() -= G_i * G_j.transpose();
+      G.middleRows<6>(6 * i) = (G.middleRows<6>(6 * i) * L_invT).eval();
+    }
+    // block_col is ascending, so block (i, j) with i >= j is in the lower triangle; when the
+    // blocks are consecutive in A each block column is one tall product.
+    bool consecutive = true;
+    for (int i = 1; i < nb; ++i) {
+      consecutive &= scratch.block_col[i] == scratch.block_col[0] + 6 * i;
+    }
+    for (int j = 0; j < nb; ++j) {
+      const int cj = scratch.block_col[j];
+      const Eigen::Matrix<double, 3, 6> G_jT = G.middleRows<6>(6 * j).transpose();
+      if (consecutive) {
+        const int tall = 6 * (nb - j);
+        A.block(cj, cj, tall, 6).noalias() -= G.bottomRows(tall).lazyProduct(G_jT);
+        continue;
+      }
+      for (int i = j; i < nb; ++i) {
+        A.block<6, 6>(scratch.block_col[i], cj).noalias() -=
+            G.middleRows<6>(6 * i).lazyProduct(G_jT);
       }
     }
   }
