@@ -1,5 +1,6 @@
-/// Fast gate path of the visual update: block-sparse innovation covariance and the
-/// symmetric two-sided nullspace projection must equal the dense reference computations.
+/// Fast gate path of the visual update: block-sparse innovation covariance, the split
+/// nullspace projector and the projection-free gate statistic must equal the dense reference
+/// computations.
 
 #include <gtest/gtest.h>
 
@@ -108,35 +109,73 @@ TEST(NullspaceProjector, MatchesNullspaceProject) {
   std::normal_distribution<double> g(0.0, 1.0);
   NullspaceProjector proj;  // reused across sizes on purpose
   for (int m : {4, 9, 22, 44}) {
-    Eigen::MatrixXd H_f(m, 3), H_x(m, 10), A(m, m);
+    Eigen::MatrixXd H_f(m, 3), H_x(m, 10);
     Eigen::VectorXd r(m);
     for (int i = 0; i < m; ++i) {
       r(i) = g(rng);
       for (int j = 0; j < 3; ++j) H_f(i, j) = g(rng);
       for (int j = 0; j < 10; ++j) H_x(i, j) = g(rng);
-      for (int j = 0; j < m; ++j) A(i, j) = g(rng);
     }
-    const Eigen::MatrixXd S0 = A * A.transpose();
-    Eigen::MatrixXd H_ref = H_x, S_ref = S0;
+    Eigen::MatrixXd H_ref = H_x;
     Eigen::VectorXd r_ref = r;
-    nullspace_project(H_f, &H_ref, &r_ref, &S_ref);
+    nullspace_project(H_f, &H_ref, &r_ref);
 
     proj.compute(H_f);
     Eigen::MatrixXd H_new = H_x;
     Eigen::VectorXd r_new = r;
-    // Only the lower triangle of S is read: poison the strict upper part.
-    Eigen::MatrixXd S_new = S0;
-    S_new.triangularView<Eigen::StrictlyUpper>().setConstant(1e300);
     proj.apply(H_new);
     proj.apply(r_new);
-    proj.project_symmetric(S_new);
     SCOPED_TRACE("m = " + std::to_string(m));
     EXPECT_LT((H_new.bottomRows(m - 3) - H_ref).norm(), 1e-12 * H_ref.norm());
     EXPECT_LT((r_new.tail(m - 3) - r_ref).norm(), 1e-12 * r_ref.norm());
-    expect_lower_equal(S_new.bottomRightCorner(m - 3, m - 3), S_ref, 1e-12);
   }
   EXPECT_THROW(proj.compute(Eigen::MatrixXd::Ones(3, 3)), std::invalid_argument);
   EXPECT_THROW(proj.compute(Eigen::MatrixXd::Ones(6, 2)), std::invalid_argument);
+}
+
+TEST(ProjectedChi2, EqualsChi2OfProjectedSystem) {
+  std::mt19937 rng(8);
+  std::normal_distribution<double> g(0.0, 1.0);
+  ProjectedChi2 gate;  // reused across sizes on purpose
+  for (int m : {4, 9, 22, 44}) {
+    // S like the gate's: correlated H P H^T part plus isotropic noise, residual of a
+    // triangulated feature (small along H_f) plus noise.
+    Eigen::MatrixXd H_f(m, 3), A(m, m);
+    Eigen::VectorXd r(m);
+    for (int i = 0; i < m; ++i) {
+      r(i) = 1e-3 * g(rng);
+      for (int j = 0; j < 3; ++j) H_f(i, j) = 0.3 * g(rng);
+      for (int j = 0; j < m; ++j) A(i, j) = 1e-2 * g(rng);
+    }
+    Eigen::MatrixXd S = A * A.transpose();
+    S.diagonal().array() += 1e-5;
+    // Reference: project r and S with nullspace_project, then the dense chi2.
+    Eigen::MatrixXd H_x = Eigen::MatrixXd::Zero(m, 1);
+    Eigen::VectorXd r_o = r;
+    Eigen::MatrixXd S_o = S;
+    nullspace_project(H_f, &H_x, &r_o, &S_o);
+    const double ref = r_o.dot(S_o.llt().solve(r_o));
+
+    // Only the lower triangle of S is read: poison the strict upper part.
+    Eigen::MatrixXd S_in = S;
+    S_in.triangularView<Eigen::StrictlyUpper>().setConstant(1e300);
+    double chi2 = -1.0;
+    ASSERT_TRUE(gate.compute(S_in, H_f, r, &chi2));
+    SCOPED_TRACE("m = " + std::to_string(m));
+    EXPECT_GT(ref, 0.0);
+    EXPECT_NEAR(chi2, ref, 1e-10 * ref);
+    // S was overwritten by its Cholesky factor.
+    const Eigen::MatrixXd L = S_in.triangularView<Eigen::Lower>();
+    EXPECT_LT((L * L.transpose() - S).norm(), 1e-12 * S.norm());
+  }
+  // Not positive definite: rejected, chi2 untouched.
+  Eigen::MatrixXd S = -Eigen::MatrixXd::Identity(6, 6);
+  double chi2 = 7.0;
+  EXPECT_FALSE(gate.compute(S, Eigen::MatrixXd::Ones(6, 3), Eigen::VectorXd::Ones(6), &chi2));
+  EXPECT_EQ(chi2, 7.0);
+  Eigen::MatrixXd S5 = Eigen::MatrixXd::Identity(5, 5);
+  EXPECT_THROW(gate.compute(S5, Eigen::MatrixXd::Ones(4, 3), Eigen::VectorXd::Ones(5), &chi2),
+               std::invalid_argument);
 }
 
 }  // namespace

@@ -73,28 +73,35 @@ void NullspaceProjector::apply(Eigen::Ref<Eigen::MatrixXd> X) {
   }
 }
 
-void NullspaceProjector::project_symmetric(Eigen::Ref<Eigen::MatrixXd> S) {
-  const Eigen::Index m = rows();
-  if (S.rows() != m || S.cols() != m) {
-    throw std::invalid_argument(std::string(__FILE__) + ": NullspaceProjector::project_symmetric:"
-                                " S must be " + std::to_string(m) + " x " + std::to_string(m));
+bool ProjectedChi2::compute(Eigen::Ref<Eigen::MatrixXd> S,
+                            const Eigen::Ref<const Eigen::MatrixXd>& H_f,
+                            const Eigen::Ref<const Eigen::VectorXd>& r, double* chi2) {
+  const Eigen::Index m = S.rows();
+  if (S.cols() != m || H_f.rows() != m || H_f.cols() != 3 || r.size() != m || m < 4) {
+    throw std::invalid_argument(std::string(__FILE__) + ": ProjectedChi2: need S m x m, H_f m x "
+                                "3, r m x 1 with m >= 4 (m = " + std::to_string(m) + ")");
   }
-  // With H = I - tau v v^T (v(0) = 1) acting on the trailing block T:
-  // H T H = T - v w^T - w v^T, p = tau T v, w = p - (tau / 2) (v^T p) v.
-  // Rows/cols before k never reach the kept (m-3) x (m-3) block, so each reflector only
-  // touches the trailing (m-k) x (m-k) block.
-  const Eigen::MatrixXd& qrm = qr_.matrixQR();
-  for (Eigen::Index k = 0; k < 3; ++k) {
-    const Eigen::Index len = m - k;
-    const double tau = qr_.hCoeffs()(k);
-    v_.resize(len);
-    v_(0) = 1.0;
-    v_.tail(len - 1) = qrm.col(k).tail(len - 1);
-    auto T = S.bottomRightCorner(len, len);
-    w_.noalias() = tau * (T.selfadjointView<Eigen::Lower>() * v_);
-    w_ -= (0.5 * tau * v_.dot(w_)) * v_;
-    T.selfadjointView<Eigen::Lower>().rankUpdate(v_, w_, -1.0);
+  B_.resize(m, 4);
+  B_.leftCols<3>() = H_f;
+  B_.col(3) = r;
+  // Left-looking Cholesky S = L L^T in place, with B <- L^-1 B formed row by row.
+  for (Eigen::Index j = 0; j < m; ++j) {
+    if (j > 0) {
+      S.col(j).tail(m - j).noalias() -= S.block(j, 0, m - j, j) * S.row(j).head(j).transpose();
+      B_.row(j).noalias() -= S.row(j).head(j) * B_.topRows(j);
+    }
+    const double d = S(j, j);
+    if (!(d > 0.0)) return false;
+    const double l = std::sqrt(d);
+    S(j, j) = l;
+    S.col(j).tail(m - j - 1) /= l;
+    B_.row(j) /= l;
   }
+  // Least-squares residual of y on Y: the last diagonal entry of R in [Y, y] = Q R.
+  qr_.compute(B_);
+  const double rho = qr_.matrixQR()(3, 3);
+  *chi2 = rho * rho;
+  return true;
 }
 
 void compress_qr(Eigen::MatrixXd* H, Eigen::VectorXd* r) {

@@ -6,7 +6,6 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -59,29 +58,6 @@ void check_inputs(const std::vector<ClonePose>& clones,
   }
   if (!(params.sigma_norm > 0.0)) bad_input("sigma_norm must be > 0");
   if (!(params.chi2_multiplier > 0.0)) bad_input("chi2_multiplier must be > 0");
-}
-
-/// chi2 = r^T S^-1 r by an in-place Cholesky S = L L^T (left-looking, lower triangle; S is
-/// overwritten by L) with y = L^-1 r formed along (r is overwritten by y). False if S is not
-/// numerically positive definite.
-bool cholesky_chi2(Eigen::Ref<Eigen::MatrixXd> S, Eigen::Ref<Eigen::VectorXd> r, double* chi2) {
-  const Eigen::Index n = S.rows();
-  double sum = 0.0;
-  for (Eigen::Index j = 0; j < n; ++j) {
-    if (j > 0) {
-      S.col(j).tail(n - j).noalias() -= S.block(j, 0, n - j, j) * S.row(j).head(j).transpose();
-      r(j) -= S.row(j).head(j).dot(r.head(j));
-    }
-    const double d = S(j, j);
-    if (!(d > 0.0)) return false;
-    const double l = std::sqrt(d);
-    S(j, j) = l;
-    S.col(j).tail(n - j - 1) /= l;
-    r(j) /= l;
-    sum += r(j) * r(j);
-  }
-  *chi2 = sum;
-  return true;
 }
 
 }  // namespace
@@ -190,6 +166,7 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
   std::vector<ObservationBlocks> blocks;
   InnovationScratch scratch;
   NullspaceProjector projector;
+  ProjectedChi2 gate;
   Eigen::MatrixXd H_x, H_f, S;
   Eigen::Matrix<double, Eigen::Dynamic, 3> G;
   Eigen::VectorXd r, r_o;
@@ -238,18 +215,13 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
       continue;
     }
 
-    // Gate: S_o = Q2^T (H_x P_T H_x^T) Q2 + sigma^2 I from the block structure of H_x (lower
-    // triangle only), chi2 = |L^-1 r_o|^2 with S_o = L L^T.
+    // Gate: chi2 = r_o^T (Q2^T S Q2)^-1 r_o with S = H_x P_T H_x^T + sigma^2 I from the block
+    // structure of H_x (lower triangle only), evaluated without projecting (ProjectedChi2).
     const int dof = 2 * m - 3;
     innovation_covariance_lower(P_T, blocks, &S, &scratch);
-    projector.compute(H_f);
-    projector.project_symmetric(S);
-    r_o = r;
-    projector.apply(r_o);
-    auto S_o = S.bottomRightCorner(dof, dof);
-    S_o.diagonal().array() += sigma2;
+    S.diagonal().array() += sigma2;
     double chi2 = 0.0;
-    if (!cholesky_chi2(S_o, r_o.tail(dof), &chi2)) {
+    if (!gate.compute(S, H_f, r, &chi2)) {
       ++out.features_rejected_chi2;
       continue;
     }
@@ -265,6 +237,7 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
         H_x.block<2, 6>(2 * a, blocks[a].clone_col) = blocks[a].H_clone;
         if (blocks[a].ext_col >= 0) H_x.block<2, 6>(2 * a, blocks[a].ext_col) = blocks[a].H_ext;
       }
+      projector.compute(H_f);
       projector.apply(H_x);
       r_o = r;
       projector.apply(r_o);

@@ -17,8 +17,7 @@ void nullspace_project(const Eigen::MatrixXd& H_f, Eigen::MatrixXd* H_x, Eigen::
 
 /// @brief The same left-nullspace projection as nullspace_project, split so that one
 /// factorization of H_f serves several operands without temporaries: compute() factors H_f
-/// (m x 3, m >= 4) into three Householder reflectors, apply() forms Q^T X in place, and
-/// project_symmetric() forms Q2^T S Q2 of a symmetric S from its lower triangle.
+/// (m x 3, m >= 4) into three Householder reflectors, apply() forms Q^T X in place.
 class NullspaceProjector {
  public:
   /// @brief Factor H_f. Throws std::invalid_argument unless H_f is m x 3 with m >= 4.
@@ -27,14 +26,29 @@ class NullspaceProjector {
   Eigen::Index rows() const { return qr_.rows(); }
   /// @brief X (m rows) <- Q^T X; the nullspace part is X.bottomRows(m - 3).
   void apply(Eigen::Ref<Eigen::MatrixXd> X);
-  /// @brief Two-sided projection of a symmetric m x m S given by its lower triangle: afterwards
-  /// the lower triangle of S.bottomRightCorner(m - 3, m - 3) holds Q2^T S Q2 (each reflector
-  /// is applied as one symmetric rank-2 update; the rest of S is scratch).
-  void project_symmetric(Eigen::Ref<Eigen::MatrixXd> S);
 
  private:
   Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
-  Eigen::VectorXd v_, w_, work_;
+  Eigen::VectorXd work_;
+};
+
+/// @brief MSCKF gate statistic of the left-nullspace projected residual without projecting:
+/// r_o^T (Q2^T S Q2)^-1 r_o (r_o = Q2^T r, Q2 spanning the left nullspace of H_f) equals
+/// min_x |y - Y x|^2 with S = L L^T, y = L^-1 r, Y = L^-1 H_f, because
+/// Q2 (Q2^T S Q2)^-1 Q2^T = S^-1 - S^-1 H_f (H_f^T S^-1 H_f)^-1 H_f^T S^-1.
+/// Costs one m x m Cholesky with four right-hand sides and a QR of m x 4, instead of three
+/// two-sided reflections of S and an (m-3) x (m-3) Cholesky.
+class ProjectedChi2 {
+ public:
+  /// @brief S (m x m, symmetric positive definite, lower triangle read) is overwritten by its
+  /// Cholesky factor. H_f is m x 3 (m >= 4), r has m rows. Returns false (chi2 untouched) if S
+  /// is not numerically positive definite. Throws std::invalid_argument on bad shapes.
+  bool compute(Eigen::Ref<Eigen::MatrixXd> S, const Eigen::Ref<const Eigen::MatrixXd>& H_f,
+               const Eigen::Ref<const Eigen::VectorXd>& r, double* chi2);
+
+ private:
+  Eigen::MatrixXd B_;  ///< [L^-1 H_f, L^-1 r]
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
 };
 
 /// @brief Replace (H, r) (m x n) by (R, Q1^T r) with min(m, n) rows, H = Q R (Householder).
