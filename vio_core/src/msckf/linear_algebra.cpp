@@ -73,7 +73,7 @@ void NullspaceProjector::apply(Eigen::Ref<Eigen::MatrixXd> X) {
   }
 }
 
-bool ProjectedChi2::compute(Eigen::Ref<Eigen::MatrixXd> S,
+bool ProjectedChi2::compute(const Eigen::Ref<const Eigen::MatrixXd>& S,
                             const Eigen::Ref<const Eigen::MatrixXd>& H_f,
                             const Eigen::Ref<const Eigen::VectorXd>& r, double* chi2) {
   const Eigen::Index m = S.rows();
@@ -81,23 +81,26 @@ bool ProjectedChi2::compute(Eigen::Ref<Eigen::MatrixXd> S,
     throw std::invalid_argument(std::string(__FILE__) + ": ProjectedChi2: need S m x m, H_f m x "
                                 "3, r m x 1 with m >= 4 (m = " + std::to_string(m) + ")");
   }
-  B_.resize(m, 4);
-  B_.leftCols<3>() = H_f;
-  B_.col(3) = r;
-  // Left-looking Cholesky S = L L^T in place, with B <- L^-1 B formed row by row.
+  // Left-looking Cholesky of [S, B; B^T, .] with B = [H_f, r], stopped after the S block: the
+  // columns of W = [S; B^T] become [L; (L^-1 B)^T], one gemv per column.
+  W_.resize(m + 4, m);
+  W_.topRows(m).triangularView<Eigen::Lower>() = S;
+  W_.bottomRows(4).topRows<3>() = H_f.transpose();
+  W_.bottomRows(1) = r.transpose();
+  const Eigen::Index rows = m + 4;
   for (Eigen::Index j = 0; j < m; ++j) {
     if (j > 0) {
-      S.col(j).tail(m - j).noalias() -= S.block(j, 0, m - j, j) * S.row(j).head(j).transpose();
-      B_.row(j).noalias() -= S.row(j).head(j) * B_.topRows(j);
+      W_.col(j).tail(rows - j).noalias() -=
+          W_.block(j, 0, rows - j, j) * W_.row(j).head(j).transpose();
     }
-    const double d = S(j, j);
+    const double d = W_(j, j);
     if (!(d > 0.0)) return false;
     const double l = std::sqrt(d);
-    S(j, j) = l;
-    S.col(j).tail(m - j - 1) /= l;
-    B_.row(j) /= l;
+    W_(j, j) = l;
+    W_.col(j).tail(rows - j - 1) /= l;
   }
   // Least-squares residual of y on Y: the last diagonal entry of R in [Y, y] = Q R.
+  B_ = W_.bottomRows(4).transpose();
   qr_.compute(B_);
   const double rho = qr_.matrixQR()(3, 3);
   *chi2 = rho * rho;

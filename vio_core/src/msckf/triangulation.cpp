@@ -60,12 +60,13 @@ double reprojection_cost(const std::vector<CameraRay>& rays,
   return cost;
 }
 
-/// Cost (as reprojection_cost) and Gauss-Newton system H = sum J^T J, g = sum J^T e at abr in
-/// one pass; infinite cost (H, g unspecified) if a projection fails.
+/// Cost and largest error (as reprojection_cost) and Gauss-Newton system H = sum J^T J,
+/// g = sum J^T e at abr in one pass; infinite cost (the rest unspecified) if a projection fails.
 double cost_and_normal_equations(const std::vector<CameraRay>& rays,
                                  const std::vector<RelativePose>& rel, const Eigen::Vector3d& abr,
-                                 Eigen::Matrix3d* H, Eigen::Vector3d* g) {
+                                 Eigen::Matrix3d* H, Eigen::Vector3d* g, double* max_err) {
   double cost = 0.0;
+  double worst = 0.0;
   H->setZero();
   g->setZero();
   for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -77,9 +78,11 @@ double cost_and_normal_equations(const std::vector<CameraRay>& rays,
     const Eigen::Vector2d e = rays[i].uv_norm - z;
     const double en = e.norm();
     cost += en * en;
+    worst = std::max(worst, en);
     H->noalias() += J.transpose() * J;
     g->noalias() += J.transpose() * e;
   }
+  *max_err = worst;
   return cost;
 }
 
@@ -148,7 +151,8 @@ TriangulationResult triangulate(const std::vector<CameraRay>& rays,
   // The system at an accepted candidate is computed together with its cost and reused.
   Eigen::Matrix3d H;
   Eigen::Vector3d g;
-  double cost = cost_and_normal_equations(rays, rel, abr, &H, &g);
+  double max_err = 0.0;
+  double cost = cost_and_normal_equations(rays, rel, abr, &H, &g, &max_err);
   double lambda = 1e-6;
   for (int it = 0; it < params.gn_iterations && std::isfinite(cost); ++it) {
     res.iterations = it + 1;
@@ -162,11 +166,14 @@ TriangulationResult triangulate(const std::vector<CameraRay>& rays,
       const Eigen::Vector3d cand = abr + step;
       Eigen::Matrix3d H_cand;
       Eigen::Vector3d g_cand;
-      const double c = cand.z() > 0.0 ? cost_and_normal_equations(rays, rel, cand, &H_cand, &g_cand)
+      double max_err_cand = 0.0;
+      const double c = cand.z() > 0.0 ? cost_and_normal_equations(rays, rel, cand, &H_cand,
+                                                                  &g_cand, &max_err_cand)
                                       : std::numeric_limits<double>::infinity();
       if (c <= cost) {
         abr = cand;
         cost = c;
+        max_err = max_err_cand;
         H = H_cand;
         g = g_cand;
         lambda = std::max(lambda * 0.1, 1e-10);
@@ -196,8 +203,12 @@ TriangulationResult triangulate(const std::vector<CameraRay>& rays,
       return res;
     }
   }
-  const double final_cost = reprojection_cost(rays, rel, abr, &res.max_reproj_error);
-  res.rms_reproj_error = std::sqrt(final_cost / static_cast<double>(rays.size()));
+  // cost / max_err belong to abr (computed when it was accepted).
+  if (!std::isfinite(cost)) {
+    cost = reprojection_cost(rays, rel, abr, &max_err);
+  }
+  res.max_reproj_error = max_err;
+  res.rms_reproj_error = std::sqrt(cost / static_cast<double>(rays.size()));
   res.p_W = R_WA * p_A + p_WA;
   if (!(res.max_reproj_error <= params.max_reproj_error_norm)) {
     res.status = TriangulationStatus::kLargeReprojection;

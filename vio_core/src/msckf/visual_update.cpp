@@ -293,8 +293,13 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
       const int cj = scratch.block_col[j];
       const Eigen::Matrix<double, 3, 6> G_jT = G.middleRows<6>(6 * j).transpose();
       if (consecutive) {
+        // Column by column: three fused axpys down the lower block column.
         const int tall = 6 * (nb - j);
-        A.block(cj, cj, tall, 6).noalias() -= G.bottomRows(tall).lazyProduct(G_jT);
+        for (int c = 0; c < 6; ++c) {
+          A.col(cj + c).segment(cj, tall) -= G.col(0).tail(tall) * G_jT(0, c) +
+                                             G.col(1).tail(tall) * G_jT(1, c) +
+                                             G.col(2).tail(tall) * G_jT(2, c);
+        }
         continue;
       }
       for (int i = j; i < nb; ++i) {

@@ -40,15 +40,18 @@ class NullspaceProjector {
 /// two-sided reflections of S and an (m-3) x (m-3) Cholesky.
 class ProjectedChi2 {
  public:
-  /// @brief S (m x m, symmetric positive definite, lower triangle read) is overwritten by its
-  /// Cholesky factor. H_f is m x 3 (m >= 4), r has m rows. Returns false (chi2 untouched) if S
-  /// is not numerically positive definite. Throws std::invalid_argument on bad shapes.
-  bool compute(Eigen::Ref<Eigen::MatrixXd> S, const Eigen::Ref<const Eigen::MatrixXd>& H_f,
+  /// @brief S (m x m, symmetric positive definite; only its lower triangle is read), H_f
+  /// m x 3 (m >= 4), r m x 1. Returns false (chi2 untouched) if S is not numerically
+  /// positive definite. Throws std::invalid_argument on bad shapes.
+  bool compute(const Eigen::Ref<const Eigen::MatrixXd>& S,
+               const Eigen::Ref<const Eigen::MatrixXd>& H_f,
                const Eigen::Ref<const Eigen::VectorXd>& r, double* chi2);
 
  private:
-  Eigen::MatrixXd B_;  ///< [L^-1 H_f, L^-1 r]
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr_;
+  /// [S; H_f^T; r^T] ((m + 4) x m), factored in place: [L; (L^-1 H_f)^T; (L^-1 r)^T]
+  Eigen::MatrixXd W_;
+  Eigen::Matrix<double, Eigen::Dynamic, 4> B_;  ///< [L^-1 H_f, L^-1 r]
+  Eigen::HouseholderQR<Eigen::Matrix<double, Eigen::Dynamic, 4>> qr_;
 };
 
 /// @brief Replace (H, r) (m x n) by (R, Q1^T r) with min(m, n) rows, H = Q R (Householder).
