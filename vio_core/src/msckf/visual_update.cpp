@@ -160,6 +160,10 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
   // Normal equations (lower triangle) for Compression::kNormalEquations.
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(use_qr ? 0 : K, use_qr ? 0 : K);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(use_qr ? 0 : K);
+  // Per used feature, the 3 columns F L^-T of its term F M^-1 F^T (rows at its blocks).
+  int num_candidates = 0;
+  for (const auto& obs : obs_of) num_candidates += obs.empty() ? 0 : 1;
+  Eigen::MatrixXd F_all(use_qr ? 0 : K, use_qr ? 0 : 3 * num_candidates);
 
   // Buffers reused across features (no per-feature allocation once warmed up).
   std::vector<CameraRay> rays;
@@ -278,35 +282,17 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
         b.segment<6>(eo).noalias() += Je.transpose() * r_perp.segment<2>(2 * a);
       }
     }
-    // F M^-1 F^T = (F L^-T)(F L^-T)^T with M = L L^T, block by block into the lower triangle.
+    // F M^-1 F^T = (F L^-T)(F L^-T)^T with M = L L^T: the column block F L^-T of this feature
+    // goes into F_all and all features are subtracted at once below (one rank-3n update).
     const Eigen::Matrix3d L_invT = mllt.matrixU().solve(Eigen::Matrix3d::Identity());
+    auto F_f = F_all.middleCols<3>(3 * (out.features_used - 1));
+    F_f.setZero();
     for (int i = 0; i < nb; ++i) {
-      G.middleRows<6>(6 * i) = (G.middleRows<6>(6 * i) * L_invT).eval();
+      F_f.middleRows<6>(scratch.block_col[i]).noalias() = G.middleRows<6>(6 * i) * L_invT;
     }
-    // block_col is ascending, so block (i, j) with i >= j is in the lower triangle; when the
-    // blocks are consecutive in A each block column is one tall product.
-    bool consecutive = true;
-    for (int i = 1; i < nb; ++i) {
-      consecutive &= scratch.block_col[i] == scratch.block_col[0] + 6 * i;
-    }
-    for (int j = 0; j < nb; ++j) {
-      const int cj = scratch.block_col[j];
-      const Eigen::Matrix<double, 3, 6> G_jT = G.middleRows<6>(6 * j).transpose();
-      if (consecutive) {
-        // Column by column: three fused axpys down the lower block column.
-        const int tall = 6 * (nb - j);
-        for (int c = 0; c < 6; ++c) {
-          A.col(cj + c).segment(cj, tall) -= G.col(0).tail(tall) * G_jT(0, c) +
-                                             G.col(1).tail(tall) * G_jT(1, c) +
-                                             G.col(2).tail(tall) * G_jT(2, c);
-        }
-        continue;
-      }
-      for (int i = j; i < nb; ++i) {
-        A.block<6, 6>(scratch.block_col[i], cj).noalias() -=
-            G.middleRows<6>(6 * i).lazyProduct(G_jT);
-      }
-    }
+  }
+  if (!use_qr && out.features_used > 0) {
+    A.selfadjointView<Eigen::Lower>().rankUpdate(F_all.leftCols(3 * out.features_used), -1.0);
   }
 
   Eigen::MatrixXd H_c;
