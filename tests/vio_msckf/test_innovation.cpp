@@ -69,10 +69,14 @@ void expect_lower_equal(const Eigen::MatrixXd& S, const Eigen::MatrixXd& ref, do
   EXPECT_LT(diff.norm(), rel * ref.norm());
 }
 
-TEST(InnovationCovariance, BlockSparseEqualsDenseProduct) {
+class InnovationCovariance : public ::testing::TestWithParam<bool> {};
+
+TEST_P(InnovationCovariance, BlockSparseEqualsDenseProduct) {
   SceneOptions opt;
   opt.num_features = 1;
+  opt.stereo = GetParam();
   const Scene s = make_scene(opt);
+  const std::size_t cams = opt.stereo ? 2 : 1;
   std::mt19937 rng(21);
   const int nc = opt.num_clones;
   // Layouts: consecutive clones (read in place); extrinsics first then clones; clones in
@@ -83,8 +87,10 @@ TEST(InnovationCovariance, BlockSparseEqualsDenseProduct) {
     std::function<int(int)> clone_col;
     std::function<int(int)> ext_col;
   };
+  // Without extrinsics the clone-group path is used, with them the general block path.
   const std::vector<Layout> layouts = {
       {false, 6 * nc, [](int i) { return 6 * i; }, [](int) { return -1; }},
+      {false, 6 * nc + 6, [nc](int i) { return 6 * (nc - i); }, [](int) { return -1; }},
       {true, 6 * nc + 12, [](int i) { return 12 + 6 * i; }, [](int c) { return 6 * c; }},
       {true, 6 * nc + 18, [nc](int i) { return 6 * (nc - 1 - i); },
        [nc](int c) { return 6 * (nc + 1 + c); }},
@@ -94,7 +100,7 @@ TEST(InnovationCovariance, BlockSparseEqualsDenseProduct) {
     const Layout& L = layouts[l];
     const Eigen::MatrixXd P_T = random_spd(L.K, rng);
     const std::vector<ObservationBlocks> obs = scene_blocks(s, L.with_ext, L.clone_col, L.ext_col);
-    ASSERT_EQ(obs.size(), 2u * nc);
+    ASSERT_EQ(obs.size(), cams * nc);
     const Eigen::MatrixXd H = dense_H(obs, L.K);
     const Eigen::MatrixXd ref = H * P_T * H.transpose();
     Eigen::MatrixXd S;
@@ -103,6 +109,8 @@ TEST(InnovationCovariance, BlockSparseEqualsDenseProduct) {
     expect_lower_equal(S, ref, 1e-12);
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(MonoAndStereo, InnovationCovariance, ::testing::Bool());
 
 TEST(NullspaceProjector, MatchesNullspaceProject) {
   std::mt19937 rng(5);

@@ -17,6 +17,60 @@ int local_block(std::vector<int>* blocks, int col) {
   return static_cast<int>(blocks->size()) - 1;
 }
 
+/// S block of clone groups (g, h): H_g P_gh H_h^T with H_g the stacked clone Jacobians of
+/// the observations of group g (RG rows; Eigen::Dynamic for an unusual count).
+template <int RG, int RH>
+void group_block(const Eigen::MatrixXd& P_T, const Eigen::Matrix<double, Eigen::Dynamic, 6>& H_c,
+                 int row_g, int rows_g, int col_g, int row_h, int rows_h, int col_h,
+                 Eigen::MatrixXd* S) {
+  using MatG = Eigen::Matrix<double, RG, 6, Eigen::ColMajor, RG == Eigen::Dynamic ? 16 : RG, 6>;
+  const MatG T = H_c.middleRows(row_g, rows_g) * P_T.block<6, 6>(col_g, col_h);
+  if constexpr (RH == Eigen::Dynamic || RG == Eigen::Dynamic) {
+    S->block(row_g, row_h, rows_g, rows_h).noalias() =
+        T.lazyProduct(H_c.middleRows(row_h, rows_h).transpose());
+  } else {
+    const Eigen::Matrix<double, 6, RH> H_hT = H_c.middleRows<RH>(row_h).transpose();
+    S->block<RG, RH>(row_g, row_h).noalias() = T * H_hT;
+  }
+}
+
+/// S for features without estimated extrinsics as a grid of blocks H_g P_gh H_h^T over
+/// groups of consecutive observations of one clone (tracks are sorted by time, so a group is
+/// all observations of a clone; the formula holds for any grouping). Stereo gives 4-row
+/// groups that map onto fixed-size products.
+void grouped_clone_covariance(const Eigen::MatrixXd& P_T, const std::vector<ObservationBlocks>& obs,
+                              Eigen::MatrixXd* S, InnovationScratch* scratch) {
+  const int m = static_cast<int>(obs.size());
+  InnovationScratch& w = *scratch;
+  w.H_c.resize(2 * m, 6);
+  w.group_start.clear();
+  for (int a = 0; a < m; ++a) {
+    w.H_c.middleRows<2>(2 * a) = obs[a].H_clone;
+    if (a == 0 || obs[a].clone_col != obs[a - 1].clone_col) w.group_start.push_back(a);
+  }
+  const int ng = static_cast<int>(w.group_start.size());
+  w.group_start.push_back(m);
+  S->resize(2 * m, 2 * m);
+  for (int h = 0; h < ng; ++h) {
+    const int row_h = 2 * w.group_start[h];
+    const int rows_h = 2 * w.group_start[h + 1] - row_h;
+    const int col_h = obs[w.group_start[h]].clone_col;
+    for (int g = h; g < ng; ++g) {
+      const int row_g = 2 * w.group_start[g];
+      const int rows_g = 2 * w.group_start[g + 1] - row_g;
+      const int col_g = obs[w.group_start[g]].clone_col;
+      if (rows_g == 4 && rows_h == 4) {
+        group_block<4, 4>(P_T, w.H_c, row_g, rows_g, col_g, row_h, rows_h, col_h, S);
+      } else if (rows_g == 2 && rows_h == 2) {
+        group_block<2, 2>(P_T, w.H_c, row_g, rows_g, col_g, row_h, rows_h, col_h, S);
+      } else {
+        group_block<Eigen::Dynamic, Eigen::Dynamic>(P_T, w.H_c, row_g, rows_g, col_g, row_h,
+                                                    rows_h, col_h, S);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 void innovation_covariance_lower(const Eigen::MatrixXd& P_T,
@@ -44,6 +98,14 @@ void innovation_covariance_lower(const Eigen::MatrixXd& P_T,
       w.local_clone[a] = rank(w.local_clone[a]);
       if (w.local_ext[a] >= 0) w.local_ext[a] = rank(w.local_ext[a]);
     }
+  }
+
+  // Clone-group fast path when no observation touches an extrinsic block.
+  bool grouped = true;
+  for (int a = 0; a < m; ++a) grouped &= obs[a].ext_col < 0;
+  if (grouped) {
+    grouped_clone_covariance(P_T, obs, S, scratch);
+    return;
   }
 
   // The touched blocks of P_T as one contiguous symmetric matrix: a view when they are

@@ -18,6 +18,7 @@ struct ObservationBlocks {
 };
 
 /// @brief Reusable buffers of innovation_covariance_lower (no allocation once warmed up).
+/// After a call, block_col / local_clone / local_ext describe the feature's blocks.
 struct InnovationScratch {
   std::vector<int> block_col;    ///< distinct 6-column blocks the feature touches, ascending
   std::vector<int> order;        ///< block_col before sorting
@@ -25,6 +26,8 @@ struct InnovationScratch {
   std::vector<int> local_ext;    ///< per observation: index into block_col or -1
   Eigen::MatrixXd P_f;           ///< touched blocks of P_T, when not consecutive in P_T
   Eigen::MatrixXd PHt;           ///< (6 * blocks) x 2m: rows of P_T H_x^T at those blocks
+  Eigen::Matrix<double, Eigen::Dynamic, 6> H_c;  ///< stacked clone Jacobians (2m x 6)
+  std::vector<int> group_start;  ///< first observation of each clone group, then m
 };
 
 /// @brief Lower triangle (including the full 2x2 diagonal blocks) of S = H_x P_T H_x^T,
