@@ -12,10 +12,10 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "app/prefetch.h"
 #include "app/progress.h"
 #include "io/dataset_reader.h"
 #include "io/lcm/lcm_convert.h"
-#include "replay/prefetch.h"
 
 namespace vid::replay {
 
@@ -185,7 +185,12 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     }
   };
 
-  Prefetcher prefetch(reader, opt.start_s, opt.end_s);
+  app::PrefetchOptions po;  // one thread reads and decodes ahead of the publishing schedule
+  po.start_s = opt.start_s;
+  po.end_s = opt.end_s;
+  po.decode_threads = 1;
+  po.capacity = 256;
+  app::Prefetcher prefetch(reader, po);
   if (!opt.fast) prefetch.wait_ready();
   while (auto p = prefetch.next()) {
     if (stop.load()) break;
