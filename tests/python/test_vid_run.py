@@ -5,11 +5,15 @@ mode, evo accepts the trajectory, summary.json metrics equal vid-eval's, --start
 Thresholds are the issue's acceptance values; they are not tuned to pass.
 """
 import json
+import os
+import signal
 import subprocess
+import time
 
 import pytest
 
-from test_vid_run_helpers import REPO, VENV_BIN, first_timestamp_ns, simulate_cached, summary, tum_rows, vid_run
+from test_vid_run_helpers import (REPO, VENV_BIN, first_timestamp_ns, program, simulate_cached, summary, tum_rows,
+                                  vid_run)
 
 SEQ_S = 12.0  # rendered seconds of vid17_like_short (seed 1)
 
@@ -92,12 +96,94 @@ def test_summary_has_stage_times_and_run_facts(dyn_images):
     assert 0.0 < cpu["image_decoding_cpu_s"] < cpu["process_cpu_s"]
     assert cpu["real_time_factor_cpu"] == pytest.approx(s["data_duration_s"] / cpu["process_cpu_s"])
     assert cpu["mean_cpu_ms_per_frame_excluding_decoding"] > 0.0
+    # The real-time factor is over the whole run (wall clock, decoding included).
+    assert s["real_time_factor"] == pytest.approx(s["data_duration_s"] / s["wall_time_s"])
+    # Default: images decoded ahead on a second thread; every frame decoded once and used.
+    da = s["decode_ahead"]
+    assert da["decode_threads"] == 1
+    assert da["frames_ahead"] >= 2
+    assert da["frames_decoded"] == s["counts"]["camera_frames"]
+    assert 0.0 <= da["main_thread_wait_s"] < s["wall_time_s"]
     assert s["peak_memory_mib"] > 1.0
     assert abs(s["data_duration_s"] - SEQ_S) < 0.5
     assert "thrust_noise_density" in s["config"]
     assert s["config_sources"]["estimator"].endswith("config/sim/estimator.yaml")
     timing_rows = (out / "timing.csv").read_text().splitlines()[1:]
     assert len(timing_rows) == s["timing"]["total"]["count"]
+
+
+@pytest.fixture(scope="session")
+def dyn_images_inline(rendered17, tmp_path_factory):
+    """dyn_images with the images decoded inline on the estimator thread."""
+    out = tmp_path_factory.mktemp("run") / "dyn_images_inline"
+    r = vid_run(rendered17, out, "--config", str(REPO / "config" / "sim"), "--decode-threads", "0")
+    return rendered17, out, r
+
+
+ESTIMATE_FILES = ("trajectory_tum.txt", "state.csv", "force.csv")
+
+
+def test_decode_ahead_outputs_equal_inline_decoding(dyn_images, dyn_images_inline):
+    """Decode-ahead only moves work to another thread: the estimator sees the same
+    measurements in the same order, so the outputs are byte-identical."""
+    _, out, r = dyn_images
+    _, out0, r0 = dyn_images_inline
+    assert r.returncode == 0, r.stderr
+    assert r0.returncode == 0, r0.stderr
+    for name in ESTIMATE_FILES:
+        assert (out / name).read_bytes() == (out0 / name).read_bytes(), name
+    s, s0 = summary(out), summary(out0)
+    assert s0["decode_ahead"]["decode_threads"] == 0
+    assert s0["decode_ahead"]["frames_ahead"] == 0
+    assert s0["decode_ahead"]["frames_decoded"] == s0["counts"]["camera_frames"]
+    assert s["counts"] == s0["counts"]
+    assert s["timing"]["image_decoding"]["count"] == s0["timing"]["image_decoding"]["count"]
+    assert 0.0 < s0["cpu"]["image_decoding_cpu_s"] < s0["cpu"]["process_cpu_s"]
+
+
+def test_several_decode_threads_equal_inline(rendered17, tmp_path):
+    outs = {}
+    for threads in ("0", "3"):
+        outs[threads] = tmp_path / f"threads{threads}"
+        r = vid_run(rendered17, outs[threads], "--config", str(REPO / "config" / "sim"), "--end", "4",
+                    "--decode-threads", threads)
+        assert r.returncode == 0, r.stderr
+    assert len(tum_rows(outs["0"] / "trajectory_tum.txt")) > 500
+    for name in ESTIMATE_FILES:
+        assert (outs["3"] / name).read_bytes() == (outs["0"] / name).read_bytes(), name
+    assert summary(outs["3"])["decode_ahead"]["decode_threads"] == 3
+
+
+def test_sigint_during_decode_ahead_writes_summary(rendered17, tmp_path):
+    """SIGINT while images are decoded ahead: the decoders stop, the summary says
+    "interrupted", and decoding CPU time (also of frames decoded but never used) stays out of
+    the per-frame CPU time."""
+    out = tmp_path / "run"
+    proc = subprocess.Popen([str(program("vid_run")), "--dataset", str(rendered17), "--out", str(out), "--quiet",
+                             "--config", str(REPO / "config" / "sim")],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, "CI": "true"})
+    traj = out / "trajectory_tum.txt"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if traj.exists() and len(tum_rows(traj)) >= 400:  # 1 s of 400 Hz estimates written
+            break
+        time.sleep(0.01)
+    assert proc.poll() is None, "vid_run finished before it could be interrupted"
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    s = summary(out)
+    assert s["status"] == "interrupted"
+    assert s["data_duration_s"] < SEQ_S - 1.0
+    assert s["counts"]["estimates"] == len(tum_rows(traj))
+    da = s["decode_ahead"]
+    assert da["decode_threads"] == 1
+    # frames read ahead may be decoded but not used, never the other way round
+    assert s["counts"]["camera_frames"] <= da["frames_decoded"] <= s["counts"]["camera_frames"] + da["frames_ahead"] + 1
+    assert s["timing"]["image_decoding"]["count"] == s["counts"]["camera_frames"]
+    assert 0.0 < s["cpu"]["image_decoding_cpu_s"] < s["cpu"]["process_cpu_s"]
+    assert s["cpu"]["mean_cpu_ms_per_frame_excluding_decoding"] > 0.0
 
 
 def test_evo_accepts_trajectory(dyn_images, tmp_path):

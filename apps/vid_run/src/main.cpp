@@ -33,6 +33,9 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"auto", "images", "feat0"}));
     app.add_option("--start", opt.start_s, "start [s] after the first measurement");
     app.add_option("--end", opt.end_s, "end [s] after the first measurement (default: to the end)");
+    app.add_option("--decode-threads", opt.decode_threads,
+                   "threads decoding images ahead of the frontend; 0: decode inline (default 1)")
+        ->check(CLI::Range(0, 8));
     bool quiet = false;
     app.add_flag("--quiet", quiet, "no progress bar, warnings only");
     try {

@@ -2,13 +2,16 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
+#include <climits>
 #include <fstream>
 #include <map>
 #include <memory>
 #include <stdexcept>
 #include <vector>
 
+#include "app/prefetch.h"
 #include "app/progress.h"
 #include "frontend/camera_model.h"
 #include "frontend/image_decode.h"
@@ -182,30 +185,12 @@ void RunSession::on_frame(const FrameTimings& ft) {
 
 void RunSession::push(const Measurement& m) {
   if (const auto* img = std::get_if<ImageFrame>(&m)) {
-    ++frames_;
-    cv::Mat left, right;
-    bool ok = true;
     const auto t_decode = Clock::now();
     const double cpu_decode = thread_cpu_ms();
-    for (const auto& ref : img->images) {
-      if (ref.cam_id > 1) continue;
-      cv::Mat g = decode_gray8(ref.path);
-      const CameraCalib& cam = cfg_.cameras.at(std::min<std::size_t>(ref.cam_id, cfg_.cameras.size() - 1));
-      if (g.empty()) {
-        ++images_unreadable_;
-        warn_image(ref.path + ": unreadable image, frame skipped");
-        ok = false;
-      } else if (g.cols != cam.width || g.rows != cam.height) {
-        ++images_wrong_size_;
-        warn_image(fmt::format("{}: image is {}x{}, calibration says {}x{}; frame skipped", ref.path, g.cols, g.rows,
-                               cam.width, cam.height));
-        ok = false;
-      }
-      (ref.cam_id == 0 ? left : right) = g;
-    }
-    decode_ms_.push_back(ms_since(t_decode));
-    decode_cpu_ms_ += thread_cpu_ms() - cpu_decode;
-    if (ok && !left.empty()) track(img->t_ns, left, right);
+    std::vector<std::pair<int, cv::Mat>> images;
+    for (const auto& ref : img->images)
+      if (ref.cam_id <= 1) images.emplace_back(ref.cam_id, decode_gray8(ref.path));
+    push_decoded(*img, images, ms_since(t_decode), thread_cpu_ms() - cpu_decode);
   } else if (const auto* ff = std::get_if<FeatureFrame>(&m)) {
     ++feature_frames_;
     FeatureFrame f = *ff;
@@ -229,6 +214,37 @@ void RunSession::push(const Measurement& m) {
     pipeline_->push(m);
   }
 }
+
+void RunSession::push_decoded(const ImageFrame& frame, const std::vector<std::pair<int, cv::Mat>>& images,
+                              double decode_ms, double decode_cpu_ms) {
+  ++frames_;
+  decode_ms_.push_back(decode_ms);
+  decode_cpu_ms_ += decode_cpu_ms;
+  cv::Mat left, right;
+  bool ok = true;
+  std::size_t k = 0;
+  for (const auto& ref : frame.images) {
+    if (ref.cam_id > 1) continue;
+    if (k >= images.size() || images[k].first != ref.cam_id)
+      throw std::logic_error(ref.path + ": decoded images do not match the frame's image list");
+    const cv::Mat& g = images[k++].second;
+    const CameraCalib& cam = cfg_.cameras.at(std::min<std::size_t>(ref.cam_id, cfg_.cameras.size() - 1));
+    if (g.empty()) {
+      ++images_unreadable_;
+      warn_image(ref.path + ": unreadable image, frame skipped");
+      ok = false;
+    } else if (g.cols != cam.width || g.rows != cam.height) {
+      ++images_wrong_size_;
+      warn_image(fmt::format("{}: image is {}x{}, calibration says {}x{}; frame skipped", ref.path, g.cols, g.rows,
+                             cam.width, cam.height));
+      ok = false;
+    }
+    (ref.cam_id == 0 ? left : right) = g;
+  }
+  if (ok && !left.empty()) track(frame.t_ns, left, right);
+}
+
+void RunSession::add_unused_decode_cpu_ms(double ms) { decode_cpu_ms_ += ms; }
 
 void RunSession::push_images(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right) {
   ++frames_;
@@ -374,31 +390,47 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   so.context = opt.dataset.string();
   RunSession session(so, reader.calibration());
 
+  // Decode-ahead: a reader thread and opt.decode_threads decoders fill a queue a few camera
+  // frames ahead while this thread runs frontend + estimator; the session gets the same
+  // measurements in the same order as with inline decoding. Started after the session so that
+  // all decoding falls inside the session's CPU-time window.
+  app::PrefetchOptions po;
+  po.start_s = opt.start_s;
+  po.end_s = opt.end_s;
+  po.decode_threads = std::max(0, opt.decode_threads);
+  po.max_frames = static_cast<std::size_t>(std::max(4, 2 * po.decode_threads));
+  po.capacity = 1024;  // IMU / rotor / truth rows between the frames ahead
+  app::Prefetcher prefetch(reader, po);
+
   // Progress over data time.
   std::optional<TimeNs> t_last_data = last_timestamp(reader.mav0() / "imu0" / "data.csv");
   std::optional<TimeNs> t0;
-  TimeNs t_start = 0, t_end = INT64_MAX, t_first_used = 0, t_last_used = 0;
+  TimeNs t_first_used = 0, t_last_used = 0;
   std::unique_ptr<app::ProgressBar> bar;
   bool interrupted = false, diverged = false;
+  double decode_cpu_pushed_ms = 0.0;
 
-  while (auto m = reader.next()) {
+  while (auto p = prefetch.next()) {
     if (stop.load()) {
       interrupted = true;
       break;
     }
-    const TimeNs t = stamp_of(*m);
+    const TimeNs t = stamp_of(p->m);
     if (!t0) {
-      t0 = t;
-      t_start = t + static_cast<TimeNs>(opt.start_s * 1e9);
-      if (opt.end_s >= 0.0) t_end = t + static_cast<TimeNs>(opt.end_s * 1e9);
+      t0 = p->t0;
+      const TimeNs t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
+      const TimeNs t_end = opt.end_s >= 0.0 ? *t0 + static_cast<TimeNs>(opt.end_s * 1e9) : INT64_MAX;
       const double total_s = t_last_data ? ns_to_s(std::min(*t_last_data, t_end) - t_start) : 1.0;
       if (opt.progress) bar = std::make_unique<app::ProgressBar>("vid_run", total_s);
       t_first_used = t_start;
     }
-    if (t < t_start) continue;
-    if (t > t_end) break;
     t_last_used = t;
-    session.push(*m);
+    if (const auto* img = std::get_if<ImageFrame>(&p->m)) {
+      session.push_decoded(*img, p->images, p->decode_ms, p->decode_cpu_ms);
+      decode_cpu_pushed_ms += p->decode_cpu_ms;
+    } else {
+      session.push(p->m);
+    }
     if (session.status() == FilterStatus::kDiverged) {
       diverged = true;
       spdlog::error("estimator diverged at t = {:.3f} s: {}", ns_to_s(t - *t0), session.status_message());
@@ -406,12 +438,17 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
     }
     if (bar) {
       const double elapsed = std::chrono::duration<double>(Clock::now() - wall_start).count();
-      const double data_s = ns_to_s(t - t_start);
+      const double data_s = ns_to_s(t - t_first_used);
       const long frames = session.camera_frames() + session.feature_frames();
       bar->update(data_s, fmt::format("{:.0f} frames/s, {:.1f}x real time", frames / std::max(elapsed, 1e-3),
                                       data_s / std::max(elapsed, 1e-3)));
     }
   }
+  // Stop and join the decoders before the CPU totals are read; frames decoded ahead but never
+  // used (interrupted run) still count as decoding, not as frontend + estimator time.
+  prefetch.stop();
+  const app::PrefetchStats prefetch_stats = prefetch.stats();
+  session.add_unused_decode_cpu_ms(std::max(0.0, prefetch_stats.decode_cpu_ms - decode_cpu_pushed_ms));
   if (!interrupted && !diverged) session.finish();
   if (session.status() == FilterStatus::kDiverged) diverged = true;
   session.close_outputs();
@@ -427,6 +464,10 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   for (const auto& st : reader.stats())
     if (st.name.rfind("cam", 0) == 0) images_missing += st.dropped;
   s["counts"]["images_missing"] = images_missing;
+  s["decode_ahead"] = {{"decode_threads", po.decode_threads},
+                       {"frames_ahead", po.decode_threads > 0 ? po.max_frames : 0},
+                       {"frames_decoded", prefetch_stats.frames_decoded},
+                       {"main_thread_wait_s", prefetch_stats.consumer_wait_ms * 1e-3}};
   s["data_duration_s"] = data_s;
   s["wall_time_s"] = wall_s;
   s["real_time_factor"] = wall_s > 0.0 ? data_s / wall_s : 0.0;

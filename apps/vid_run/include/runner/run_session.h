@@ -55,6 +55,15 @@ class RunSession {
   /// unreadable or wrongly sized image skips its frame, counted); ground truth is kept for the
   /// metrics and passed to the pipeline (ground-truth initialization).
   void push(const Measurement& m);
+  /// @brief Feed a camera frame whose images were decoded elsewhere (a decode-ahead thread):
+  /// @p images are (cam_id, decode_gray8 image) of the frame's cam 0 / cam 1 images in the
+  /// frame's order; checked, counted and tracked exactly as push() does with the paths.
+  /// @param decode_ms, decode_cpu_ms  wall / CPU time the decoding took (for summary.json)
+  void push_decoded(const ImageFrame& frame, const std::vector<std::pair<int, cv::Mat>>& images, double decode_ms,
+                    double decode_cpu_ms);
+  /// @brief Account decoding CPU time of frames that were decoded ahead but never pushed (the
+  /// run stopped first), so that the CPU time "excluding decoding" stays free of it.
+  void add_unused_decode_cpu_ms(double ms);
   /// @brief Feed one camera frame as decoded 8-bit images (right empty for mono).
   void push_images(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right);
   /// @brief End of stream: process everything still queued.

@@ -26,6 +26,9 @@ struct RunOptions {
   double start_s = 0.0;                  ///< relative to the first measurement
   double end_s = -1.0;                   ///< <0: to the end
   bool progress = true;
+  /// Threads decoding images ahead of the frontend (plus one reading the files); 0: read and
+  /// decode inline on the estimator thread. Outputs are the same either way.
+  int decode_threads = 1;
 };
 
 /// @brief How a run ended (the program's exit code follows it).
