@@ -76,13 +76,13 @@ double cost_and_normal_equations(const std::vector<CameraRay>& rays,
       return std::numeric_limits<double>::infinity();
     }
     const Eigen::Vector2d e = rays[i].uv_norm - z;
-    const double en = e.norm();
-    cost += en * en;
-    worst = std::max(worst, en);
+    const double e2 = e.squaredNorm();
+    cost += e2;
+    worst = std::max(worst, e2);  // squared; one sqrt at the end
     H->noalias() += J.transpose() * J;
     g->noalias() += J.transpose() * e;
   }
-  *max_err = worst;
+  *max_err = std::sqrt(worst);
   return cost;
 }
 
@@ -112,15 +112,20 @@ TriangulationResult triangulate(const std::vector<CameraRay>& rays,
     rel[i].c_A = R_WA.transpose() * (rays[i].p_WC - p_WA);
     rel[i].R_CA = R_AC.transpose();
     rel[i].p_CA = -rel[i].R_CA * rel[i].c_A;
-    const Eigen::Vector3d d = (R_AC * rays[i].uv_norm.homogeneous()).normalized();
+    const Eigen::Vector3d v = R_AC * rays[i].uv_norm.homogeneous();
     // Midpoint: minimise the sum of squared distances of p_A to each ray.
-    const Eigen::Matrix3d Pperp = Eigen::Matrix3d::Identity() - d * d.transpose();
+    // I - d d^T for the unit ray d = v / |v|, without the square root.
+    const Eigen::Matrix3d Pperp =
+        Eigen::Matrix3d::Identity() - (v * v.transpose()) * (1.0 / v.squaredNorm());
     A += Pperp;
     b += Pperp * rel[i].c_A;
     if (params.min_parallax_rad > 0.0) {  // only needed for that check
+      const Eigen::Vector3d d = v.normalized();
       max_parallax = std::max(max_parallax, std::atan2(d0.cross(d).norm(), d0.dot(d)));
     }
-    max_baseline = std::max(max_baseline, rel[i].c_A.norm());
+    if (params.min_baseline > 0.0) {  // only needed for that check
+      max_baseline = std::max(max_baseline, rel[i].c_A.norm());
+    }
   }
 
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
