@@ -1,6 +1,8 @@
 """vid_run end to end (issue 6): accuracy on a short rendered VID17-like sequence in dynamics
 mode, evo accepts the trajectory, summary.json metrics equal vid-eval's, --start/--end,
---features feat0 vs images, --mode imu on the EuRoC-like preset, every preset loads.
+--features feat0 vs images, --mode imu on the EuRoC-like preset, every preset loads, images
+decoded ahead on other threads give byte-identical outputs to inline decoding (also on SIGINT
+the summary is written and its decoding CPU time is accounted).
 
 Thresholds are the issue's acceptance values; they are not tuned to pass.
 """
