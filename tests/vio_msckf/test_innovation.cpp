@@ -107,6 +107,14 @@ TEST_P(InnovationCovariance, BlockSparseEqualsDenseProduct) {
     innovation_covariance_lower(P_T, obs, &S, &scratch);
     SCOPED_TRACE("layout " + std::to_string(l));
     expect_lower_equal(S, ref, 1e-12);
+
+    // A repeated observation makes one clone group larger (general-size group path).
+    std::vector<ObservationBlocks> rep = obs;
+    rep.insert(rep.begin() + 1, 2, obs[0]);
+    const Eigen::MatrixXd H_rep = dense_H(rep, L.K);
+    Eigen::MatrixXd S_rep;
+    innovation_covariance_lower(P_T, rep, &S_rep, &scratch);
+    expect_lower_equal(S_rep, H_rep * P_T * H_rep.transpose(), 1e-12);
   }
 }
 

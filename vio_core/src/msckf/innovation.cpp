@@ -23,7 +23,7 @@ template <int RG, int RH>
 void group_block(const Eigen::MatrixXd& P_T, const Eigen::Matrix<double, Eigen::Dynamic, 6>& H_c,
                  int row_g, int rows_g, int col_g, int row_h, int rows_h, int col_h,
                  Eigen::MatrixXd* S) {
-  using MatG = Eigen::Matrix<double, RG, 6, Eigen::ColMajor, RG == Eigen::Dynamic ? 16 : RG, 6>;
+  using MatG = Eigen::Matrix<double, RG, 6>;  // heap only for an unusual group size
   const MatG T = H_c.middleRows(row_g, rows_g) * P_T.block<6, 6>(col_g, col_h);
   if constexpr (RH == Eigen::Dynamic || RG == Eigen::Dynamic) {
     S->block(row_g, row_h, rows_g, rows_h).noalias() =

@@ -33,7 +33,9 @@ struct InnovationScratch {
 /// @brief Lower triangle (including the full 2x2 diagonal blocks) of S = H_x P_T H_x^T,
 /// 2m x 2m for m observations; P_T symmetric (only its touched 6x6 blocks are read). The
 /// strictly upper part of S outside the diagonal blocks is left unspecified.
-/// Cost O(m * blocks * 72 + m^2 * 12) flops instead of dense products over all of P_T.
+/// Without extrinsic blocks, S is built from clone-group blocks H_g P_gh H_h^T (fixed-size
+/// for mono / stereo groups); otherwise from P_T H_x^T on the touched blocks. Either way
+/// O(m^2 * 100) flops instead of dense products over all of P_T.
 void innovation_covariance_lower(const Eigen::MatrixXd& P_T,
                                  const std::vector<ObservationBlocks>& obs, Eigen::MatrixXd* S,
                                  InnovationScratch* scratch);
