@@ -58,12 +58,13 @@ UpdateResult ekf_update_columns(FilterState& state, const std::vector<int>& cols
   res.chi2 = r.dot(llt.solve(r));
   res.threshold = chi2_threshold;
   if (chi2_threshold > 0.0 && !(res.chi2 <= chi2_threshold)) return res;
-  // K = PHt S^-1
-  const Eigen::MatrixXd K = llt.solve(PHt.transpose()).transpose();
-  state.apply_correction(K * r);
-  P.noalias() -= K * PHt.transpose();
-  Eigen::MatrixXd sym = 0.5 * (P + P.transpose());
-  P.swap(sym);
+  // With S = L L^T and W = PHt L^-T: K r = W (L^-1 r) and K S K^T = W W^T, so one
+  // triangular solve and a symmetric rank-m update of the lower triangle (half a product),
+  // mirrored to the upper one: P stays exactly symmetric.
+  const Eigen::MatrixXd W = llt.matrixL().solve(PHt.transpose()).transpose();
+  state.apply_correction(W * llt.matrixL().solve(r));
+  P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);
+  P.triangularView<Eigen::StrictlyUpper>() = P.transpose();
   res.applied = true;
   return res;
 }
@@ -137,12 +138,15 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   W = llt.matrixL().solve(PHt.transpose()).transpose();
   const Eigen::Vector3d Linv_r = llt.matrixL().solve(r);
   state.apply_correction(W * Linv_r);
-  // P -= W W^T one contiguous column at a time (vectorized, no cache-unfriendly mirror pass
-  // of a triangular update); P stays symmetric to round-off.
+  // P -= W W^T one contiguous column at a time: a single fused, vectorized pass per column
+  // (no product-kernel call per column, no cache-unfriendly mirror pass of a triangular
+  // update); P stays symmetric to round-off.
   const int n = static_cast<int>(P.rows());
+  const auto w0 = W.col(0);
+  const auto w1 = W.col(1);
+  const auto w2 = W.col(2);
   for (int j = 0; j < n; ++j) {
-    const Eigen::Vector3d w_j = W.row(j).transpose();
-    P.col(j).noalias() -= W * w_j;
+    P.col(j) -= w0 * W(j, 0) + w1 * W(j, 1) + w2 * W(j, 2);
   }
   res.applied = true;
   return res;
