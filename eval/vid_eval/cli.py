@@ -1,4 +1,4 @@
-"""``vid-eval`` entry point: sub-commands traj, force, mass, report.
+"""``vid-eval`` entry point: sub-commands traj, force, mass, report, force-bound.
 
 Any :class:`~vid_eval.errors.VidEvalError` (bad file, no overlap, missing mass, ...) is
 printed as one line ``vid-eval: error: ...`` on stderr with exit status 1; usage errors
@@ -11,7 +11,7 @@ import sys
 from typing import List, Optional
 
 from . import __version__
-from .commands import force, mass, report, traj
+from .commands import bound, force, mass, report, traj
 from .errors import VidEvalError
 
 EXIT_INPUT_ERROR = 1
@@ -26,7 +26,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
-    for mod in (traj, force, mass, report):
+    for mod in (traj, force, mass, report, bound):
         mod.add_parser(sub)
     return p
 
