@@ -1,8 +1,14 @@
 #include "app/prefetch.h"
 
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <climits>
 #include <ctime>
+
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 #include "frontend/image_decode.h"
 
@@ -44,6 +50,15 @@ void Prefetcher::stop() {
     if (t.joinable()) t.join();
 }
 
+void Prefetcher::lower_priority() const {
+  if (opt_.background_nice <= 0) return;
+  // Per-thread nice value (Linux): applies to this background thread only. Best effort.
+  const auto tid = static_cast<id_t>(syscall(SYS_gettid));
+  errno = 0;
+  const int now = getpriority(PRIO_PROCESS, tid);
+  if (errno == 0) (void)setpriority(PRIO_PROCESS, tid, std::min(19, now + opt_.background_nice));
+}
+
 std::optional<Prefetched> Prefetcher::read_one() {
   if (window_ended_) return std::nullopt;
   while (auto m = reader_.next()) {
@@ -76,6 +91,7 @@ void Prefetcher::decode(Prefetched& p) {
 }
 
 void Prefetcher::read_loop() {
+  lower_priority();
   try {
     while (auto p = read_one()) {
       const bool frame = std::holds_alternative<ImageFrame>(p->m);
@@ -105,6 +121,7 @@ void Prefetcher::read_loop() {
 }
 
 void Prefetcher::decode_loop() {
+  lower_priority();
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
     cv_.wait(lock, [&] { return cancel_ || reader_done_ || !jobs_.empty(); });

@@ -400,6 +400,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   po.decode_threads = std::max(0, opt.decode_threads);
   po.max_frames = static_cast<std::size_t>(std::max(4, 2 * po.decode_threads));
   po.capacity = 1024;  // IMU / rotor / truth rows between the frames ahead
+  po.background_nice = 5;  // short of cores, frontend + estimator run first (per-frame times)
   app::Prefetcher prefetch(reader, po);
 
   // Progress over data time.

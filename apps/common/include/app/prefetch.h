@@ -41,6 +41,10 @@ struct PrefetchOptions {
   int decode_threads = 1;
   std::size_t capacity = 256;  ///< measurements queued ahead at most
   std::size_t max_frames = 0;  ///< camera frames queued ahead at most (0: only `capacity` bounds)
+  /// Nice increment of the background threads (Linux, per thread; 0: unchanged). When cores are
+  /// short, the consumer then runs first and the decoders use what is left, so decode-ahead
+  /// does not stretch the consumer's per-frame wall time.
+  int background_nice = 0;
 };
 
 /// @brief Totals over the run (for summary.json).
@@ -81,6 +85,7 @@ class Prefetcher {
   void decode(Prefetched& p);
   void read_loop();
   void decode_loop();
+  void lower_priority() const;
 
   io::DatasetReader& reader_;
   PrefetchOptions opt_;
