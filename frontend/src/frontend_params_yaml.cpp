@@ -25,6 +25,9 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
   p.lk_window = m.get_int("lk_window", p.lk_window);
   p.lk_max_iterations = m.get_int("lk_max_iterations", p.lk_max_iterations);
   p.lk_epsilon = m.get_double("lk_epsilon", p.lk_epsilon);
+  p.lk_predicted_max_iterations =
+      m.get_int("lk_predicted_max_iterations", p.lk_predicted_max_iterations);
+  p.lk_predicted_epsilon = m.get_double("lk_predicted_epsilon", p.lk_predicted_epsilon);
   p.lk_min_eigen = m.get_double("lk_min_eigen", p.lk_min_eigen);
   p.fb_check_px = m.get_double("fb_check_px", p.fb_check_px);
   p.template_refinement = m.get_bool("template_refinement", p.template_refinement);
@@ -46,6 +49,7 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
   p.stereo = m.get_bool("stereo", p.stereo);
   p.stereo_epipolar_px = m.get_double("stereo_epipolar_px", p.stereo_epipolar_px);
   p.stereo_lk_levels = m.get_int("stereo_lk_levels", p.stereo_lk_levels);
+  p.stereo_track_lk_levels = m.get_int("stereo_track_lk_levels", p.stereo_track_lk_levels);
   p.stereo_fb_check_px = m.get_double("stereo_fb_check_px", p.stereo_fb_check_px);
   p.stereo_max_disparity_px = m.get_double("stereo_max_disparity_px", p.stereo_max_disparity_px);
   p.stereo_min_depth_m = m.get_double("stereo_min_depth_m", p.stereo_min_depth_m);
@@ -60,6 +64,8 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
   positive("fast_threshold", p.fast_threshold);
   positive("lk_window", p.lk_window);
   positive("lk_max_iterations", p.lk_max_iterations);
+  positive("lk_predicted_max_iterations", p.lk_predicted_max_iterations);
+  positive("lk_predicted_epsilon", p.lk_predicted_epsilon);
   positive("ransac_threshold_px", p.ransac_threshold_px);
   if (p.lk_window % 2 == 0) m.fail("lk_window", "must be odd");
   if (p.template_half < 2 || p.template_half > 20) m.fail("template_half", "must be in [2, 20]");
@@ -67,6 +73,9 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
   if (p.lk_levels < 0 || p.lk_levels > 8) m.fail("lk_levels", "must be in [0, 8]");
   if (p.stereo_lk_levels < 0 || p.stereo_lk_levels > 8) {
     m.fail("stereo_lk_levels", "must be in [0, 8]");
+  }
+  if (p.stereo_track_lk_levels < 0 || p.stereo_track_lk_levels > 8) {
+    m.fail("stereo_track_lk_levels", "must be in [0, 8]");
   }
   if (p.detect_min_missing < 1) m.fail("detect_min_missing", "must be >= 1");
   if (p.detect_cell_retry_frames < 0) m.fail("detect_cell_retry_frames", "must be >= 0");

@@ -116,16 +116,19 @@ void KltTracker::track_temporal(const cv::Mat& img, const std::vector<cv::Mat>& 
   stats_.gyro_used = p_.gyro_prediction && R_prev_cur.has_value();
 
   const cv::Size win(p_.lk_window, p_.lk_window);
-  const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
-                              p_.lk_max_iterations, p_.lk_epsilon);
+  // Gyro-predicted points start close: the coarser stop suffices (birth-patch alignment follows).
+  const cv::TermCriteria crit(
+      cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+      stats_.gyro_used ? p_.lk_predicted_max_iterations : p_.lk_max_iterations,
+      stats_.gyro_used ? p_.lk_predicted_epsilon : p_.lk_epsilon);
   std::vector<std::uint8_t> st;
-  std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(prev_pyr_, pyr, prev, cur, st, err, win, p_.lk_levels, crit,
+  // No error output: OpenCV would spend one more window interpolation per point on it.
+  cv::calcOpticalFlowPyrLK(prev_pyr_, pyr, prev, cur, st, cv::noArray(), win, p_.lk_levels, crit,
                            cv::OPTFLOW_USE_INITIAL_FLOW, p_.lk_min_eigen);
   if (p_.fb_check_px > 0.0) {
     std::vector<cv::Point2f> back = prev;
     std::vector<std::uint8_t> st_b;
-    cv::calcOpticalFlowPyrLK(pyr, prev_pyr_, cur, back, st_b, err, win, p_.lk_levels, crit,
+    cv::calcOpticalFlowPyrLK(pyr, prev_pyr_, cur, back, st_b, cv::noArray(), win, p_.lk_levels, crit,
                              cv::OPTFLOW_USE_INITIAL_FLOW, p_.lk_min_eigen);
     for (std::size_t i = 0; i < n; ++i) {
       if (!st_b[i] || cv::norm(back[i] - prev[i]) > p_.fb_check_px) st[i] = 0;

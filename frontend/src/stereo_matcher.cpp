@@ -69,10 +69,12 @@ void StereoMatcher::match(const std::vector<cv::Mat>& pyr0, const std::vector<cv
   const cv::Size win(p_.lk_window, p_.lk_window);
   const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
                               p_.lk_max_iterations, p_.lk_epsilon);
+  const cv::TermCriteria crit_near(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+                                   p_.lk_predicted_max_iterations, p_.lk_predicted_epsilon);
   std::vector<std::uint8_t> st(n, 0);
-  std::vector<float> err;
-  // Points whose guess is last frame's disparity are within a pixel or two: one pyramid level
-  // suffices. The others (new tracks, at the infinity guess) use stereo_lk_levels.
+  // Points whose guess is last frame's disparity are within a pixel or two: stereo_track_lk_levels
+  // (the base image alone by default) suffice. The others (new tracks, at the infinity guess) use
+  // stereo_lk_levels. No error output (it costs one more window interpolation per point).
   for (const bool near : {true, false}) {
     std::vector<std::size_t> idx;
     std::vector<cv::Point2f> a, b;
@@ -85,8 +87,10 @@ void StereoMatcher::match(const std::vector<cv::Mat>& pyr0, const std::vector<cv
     }
     if (idx.empty()) continue;
     std::vector<std::uint8_t> s;
-    cv::calcOpticalFlowPyrLK(pyr0, pyr1, a, b, s, err, win,
-                             near ? std::min(1, p_.stereo_lk_levels) : p_.stereo_lk_levels, crit,
+    cv::calcOpticalFlowPyrLK(pyr0, pyr1, a, b, s, cv::noArray(), win,
+                             near ? std::min(p_.stereo_track_lk_levels, p_.stereo_lk_levels)
+                                  : p_.stereo_lk_levels,
+                             near ? crit_near : crit,
                              cv::OPTFLOW_USE_INITIAL_FLOW, p_.lk_min_eigen);
     for (std::size_t k = 0; k < idx.size(); ++k) {
       pts1[idx[k]] = b[k];
@@ -96,8 +100,7 @@ void StereoMatcher::match(const std::vector<cv::Mat>& pyr0, const std::vector<cv
   std::vector<std::uint8_t> st_back(n, 1);
   if (p_.stereo_fb_check_px > 0.0) {
     std::vector<cv::Point2f> back = uv0;
-    std::vector<float> err_b;
-    cv::calcOpticalFlowPyrLK(pyr1, pyr0, pts1, back, st_back, err_b, win, p_.stereo_lk_levels, crit,
+    cv::calcOpticalFlowPyrLK(pyr1, pyr0, pts1, back, st_back, cv::noArray(), win, p_.stereo_lk_levels, crit,
                              cv::OPTFLOW_USE_INITIAL_FLOW, p_.lk_min_eigen);
     for (std::size_t i = 0; i < n; ++i) {
       if (st_back[i] && cv::norm(back[i] - uv0[i]) > p_.stereo_fb_check_px) st_back[i] = 0;
