@@ -3,6 +3,9 @@
 // one the scoring test left there); without vid_sim, synthetic warped textures.
 // Reports median and p99 per frame as counters (ms); frames are played forward then backward
 // so that tracking never jumps.
+// Not what vid_run does (no gyro, default parameters, almost no detection, 60 frames): about
+// 8 % lighter than the real sequence. bench_klt_sequence.cpp (bench_frontend_sequence)
+// measures the frontend as vid_run/vid_track run it.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
