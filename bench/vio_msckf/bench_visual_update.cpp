@@ -8,6 +8,7 @@
 #include <random>
 
 #include "synthetic_scene.h"
+#include "vio_core/msckf/clone_poses.h"
 #include "vio_core/msckf/linear_algebra.h"
 #include "vio_core/msckf/triangulation.h"
 #include "vio_core/ekf_update.h"
@@ -128,18 +129,7 @@ void BM_MsckfUpdate(benchmark::State& state) {
     state.PauseTiming();
     vid::FilterState st = st0;
     state.ResumeTiming();
-    std::vector<ClonePose> clones;
-    clones.reserve(st.clones().size());
-    for (const vid::CloneState& c : st.clones()) {
-      ClonePose cp;
-      cp.t_ns = c.t_ns;
-      cp.R_WI = c.q_WI.toRotationMatrix();
-      cp.R_WI_fej = c.q_WI_fej.toRotationMatrix();
-      cp.p_WI = c.p_WI;
-      cp.p_WI_fej = c.p_WI_fej;
-      cp.cov_index = c.cov_index;
-      clones.push_back(cp);
-    }
+    const std::vector<ClonePose> clones = clone_poses(st);
     const VisualLinearSystem sys =
         build_visual_update(s.scene.tracks, clones, s.scene.extrinsics, st.P(), s.params);
     if (sys.H.rows() > 0) {

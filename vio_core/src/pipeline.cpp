@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "vio_core/ekf_update.h"
+#include "vio_core/msckf/clone_poses.h"
 #include "vio_core/msckf/feature_database.h"
 #include "vio_core/msckf/visual_update.h"
 #include "vio_core/propagation.h"
@@ -244,18 +245,7 @@ void Pipeline::process_frame(const FeatureFrame& f) {
   }
   features_->add(usable);
 
-  std::vector<msckf::ClonePose> clones;
-  clones.reserve(state_.clones().size());
-  for (const CloneState& c : state_.clones()) {
-    msckf::ClonePose cp;
-    cp.t_ns = c.t_ns;
-    cp.R_WI = c.q_WI.toRotationMatrix();
-    cp.R_WI_fej = c.q_WI_fej.toRotationMatrix();
-    cp.p_WI = c.p_WI;
-    cp.p_WI_fej = c.p_WI_fej;
-    cp.cov_index = c.cov_index;
-    clones.push_back(cp);
-  }
+  const std::vector<msckf::ClonePose> clones = msckf::clone_poses(state_);
   const bool window_full = static_cast<int>(clones.size()) > p.window_size;
   std::vector<msckf::FeatureTrack> tracks = features_->select_for_update(clones, f.t_ns, window_full);
   if (p.max_features_per_update > 0 && static_cast<int>(tracks.size()) > p.max_features_per_update) {
