@@ -7,15 +7,12 @@ the summary is written and its decoding CPU time is accounted).
 Thresholds are the issue's acceptance values; they are not tuned to pass.
 """
 import json
-import os
-import signal
 import subprocess
-import time
 
 import pytest
 
-from test_vid_run_helpers import (REPO, VENV_BIN, first_timestamp_ns, program, simulate_cached, summary, tum_rows,
-                                  vid_run)
+from test_vid_run_helpers import (REPO, VENV_BIN, first_timestamp_ns, interrupt_vid_run, simulate_cached, summary,
+                                  tum_rows, vid_run)
 
 SEQ_S = 12.0  # rendered seconds of vid17_like_short (seed 1)
 
@@ -161,20 +158,9 @@ def test_sigint_during_decode_ahead_writes_summary(rendered17, tmp_path):
     "interrupted", and decoding CPU time (also of frames decoded but never used) stays out of
     the per-frame CPU time."""
     out = tmp_path / "run"
-    proc = subprocess.Popen([str(program("vid_run")), "--dataset", str(rendered17), "--out", str(out), "--quiet",
-                             "--config", str(REPO / "config" / "sim")],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env={**os.environ, "CI": "true"})
     traj = out / "trajectory_tum.txt"
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline and proc.poll() is None:
-        if traj.exists() and len(tum_rows(traj)) >= 400:  # 1 s of 400 Hz estimates written
-            break
-        time.sleep(0.01)
-    assert proc.poll() is None, "vid_run finished before it could be interrupted"
-    proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=60)
-    assert proc.returncode == 130, err
+    returncode, err = interrupt_vid_run(rendered17, out, 400, poll_s=0.01)  # 1 s of 400 Hz estimates
+    assert returncode == 130, err
     s = summary(out)
     assert s["status"] == "interrupted"
     assert s["data_duration_s"] < SEQ_S - 1.0

@@ -9,7 +9,9 @@ import os
 import tempfile
 import pathlib
 import shutil
+import signal
 import subprocess
+import time
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 VENV_BIN = REPO / ".venv" / "bin"
@@ -96,3 +98,23 @@ def link_copy(src: pathlib.Path, dst: pathlib.Path) -> pathlib.Path:
 def replace_file(path: pathlib.Path, data: bytes) -> None:
     path.unlink()
     path.write_bytes(data)
+
+
+def interrupt_vid_run(dataset: pathlib.Path, out: pathlib.Path, after_estimates: int, poll_s: float = 0.02):
+    """Start vid_run (config/sim, CI quiet), send SIGINT once `after_estimates` rows of
+    trajectory_tum.txt are on disk, and return (returncode, stderr). Fails the test if the run
+    ends before it could be interrupted."""
+    proc = subprocess.Popen([str(program("vid_run")), "--dataset", str(dataset), "--out", str(out), "--quiet",
+                             "--config", str(REPO / "config" / "sim")],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, "CI": "true"})
+    traj = out / "trajectory_tum.txt"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if traj.exists() and len(tum_rows(traj)) >= after_estimates:
+            break
+        time.sleep(poll_s)
+    assert proc.poll() is None, "vid_run finished before it could be interrupted"
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    return proc.returncode, err

@@ -4,16 +4,13 @@ flushed outputs and writes an "interrupted" summary (exit 130), and a diverging 
 (provoked by corrupting the data, not by mocking) is reported in summary.json and exit 3.
 """
 import io
-import os
-import signal
-import subprocess
-import time
 
 import numpy as np
 import pytest
 from PIL import Image
 
-from test_vid_run_helpers import REPO, link_copy, program, replace_file, simulate_cached, summary, tum_rows, vid_run
+from test_vid_run_helpers import (REPO, interrupt_vid_run, link_copy, replace_file, simulate_cached, summary, tum_rows,
+                                  vid_run)
 
 
 @pytest.fixture(scope="module")
@@ -88,20 +85,9 @@ def test_dynamics_without_thrust_data_is_one_line_error(how, euroc_feat, tmp_pat
 
 def test_sigint_keeps_outputs_and_writes_summary(long_feat, tmp_path):
     out = tmp_path / "run"
-    proc = subprocess.Popen([str(program("vid_run")), "--dataset", str(long_feat), "--out", str(out), "--quiet",
-                             "--config", str(REPO / "config" / "sim")],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env={**os.environ, "CI": "true"})
     traj = out / "trajectory_tum.txt"
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline and proc.poll() is None:
-        if traj.exists() and len(tum_rows(traj)) >= 2000:  # 5 s of 400 Hz estimates written
-            break
-        time.sleep(0.02)
-    assert proc.poll() is None, "vid_run finished before it could be interrupted"
-    proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=60)
-    assert proc.returncode == 130, err
+    returncode, err = interrupt_vid_run(long_feat, out, 2000)  # 5 s of 400 Hz estimates
+    assert returncode == 130, err
     s = summary(out)
     assert s["status"] == "interrupted"
     rows = tum_rows(traj)
