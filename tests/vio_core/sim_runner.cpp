@@ -285,12 +285,7 @@ NeesSeries nees_on_dataset(const std::filesystem::path& folder, PropagationMode 
 
   // Initial estimate: truth perturbed by one draw from the initial covariance, so that the
   // NEES starts chi2-distributed instead of at zero.
-  ImuState x0;
-  x0.q_WI = gt0->q_WI;
-  x0.p_WI = gt0->p_WI;
-  x0.v_WI = gt0->v_WI;
-  x0.b_g = gt0->b_g;
-  x0.b_a = gt0->b_a;
+  ImuState x0 = state_from_groundtruth(*gt0);
   if (mode == PropagationMode::kDynamics) {
     set_force_from_body(x0, pc.params.force_frame, gt0->q_WI.conjugate() * (f0->f_W_N / mass));
   }

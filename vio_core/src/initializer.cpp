@@ -23,6 +23,16 @@ Eigen::Quaterniond gravity_aligned_orientation(const Eigen::Vector3d& f_I) {
   return so3::normalized(Eigen::Quaterniond(R_IW.transpose()));
 }
 
+ImuState state_from_groundtruth(const GroundTruthSample& gt) {
+  ImuState x;
+  x.q_WI = gt.q_WI;
+  x.p_WI = gt.p_WI;
+  x.v_WI = gt.v_WI;
+  x.b_g = gt.b_g;
+  x.b_a = gt.b_a;
+  return x;
+}
+
 Eigen::MatrixXd initial_covariance(const EstimatorParams& p, const Eigen::Quaterniond& q_WI) {
   const bool dyn = p.mode == PropagationMode::kDynamics;
   const bool rate = dyn && p.force_rate_random_walk > 0.0;

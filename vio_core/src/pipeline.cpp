@@ -133,12 +133,7 @@ void Pipeline::process_imu(const ImuInput& in) {
     }
     if (p.init_mode == InitMode::kGroundTruth) {
       if (last_gt_ && std::llabs(last_gt_->t_ns - in.t) <= kGtInitToleranceNs) {
-        ImuState x;
-        x.q_WI = last_gt_->q_WI;
-        x.p_WI = last_gt_->p_WI;
-        x.v_WI = last_gt_->v_WI;
-        x.b_g = last_gt_->b_g;
-        x.b_a = last_gt_->b_a;
+        ImuState x = state_from_groundtruth(*last_gt_);
         if (last_force_W_ && config_.vehicle.mass_kg > 0.0) {
           set_force_from_body(x, p.force_frame, x.q_WI.conjugate() * (*last_force_W_ / config_.vehicle.mass_kg));
         }

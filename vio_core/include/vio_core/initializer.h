@@ -11,6 +11,7 @@
 #include <string>
 
 #include "vio_core/estimator_params.h"
+#include "vio_core/measurements.h"
 #include "vio_core/state.h"
 
 namespace vid {
@@ -25,6 +26,10 @@ struct InitResult {
 /// @brief Diagonal initial covariance from the params' init sigmas (orientation split into
 /// roll/pitch and yaw in the world frame, mapped to the body-frame right perturbation).
 Eigen::MatrixXd initial_covariance(const EstimatorParams& params, const Eigen::Quaterniond& q_WI);
+
+/// @brief IMU state from a ground-truth sample (pose, velocity, biases; F_ext and its rate
+/// zero), for initialization from ground truth.
+ImuState state_from_groundtruth(const GroundTruthSample& gt);
 
 /// @brief Sliding-window static/hover detector and initializer.
 class StaticInitializer {
