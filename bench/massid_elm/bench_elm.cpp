@@ -85,17 +85,28 @@ BENCHMARK_CAPTURE(BM_TrainNaive, pinv_cod, true)
 BENCHMARK_CAPTURE(BM_TrainNaive, explicit_inverse, false)
     ->Args({500, 2})->Args({500, 1})->Unit(benchmark::kMillisecond);
 
-/// OSELM sequential phase, one sample (rank-one Woodbury update of P and beta).
-void BM_OselmUpdateOne(benchmark::State& state) {
-  const int L = static_cast<int>(state.range(0));
+/// Hidden-layer outputs H and normalized targets T of the training set for L nodes, and an
+/// OSELM initialized on its first 2 L samples (the sequential phase starts at row 2 L).
+struct OselmSetup {
+  Eigen::MatrixXd H;
+  Eigen::VectorXd T;
+  OnlineSequentialElm os;
+};
+OselmSetup make_oselm(int L) {
   FeatureConfig features;
   const RunFeatures data = extract_training_set(pointers(), features);
   const Normalizer n = Normalizer::fit(data.X, data.y);
   const HiddenLayer layer(features.dimension(), L, 1, 2.0 / std::sqrt(features.dimension()));
-  const Eigen::MatrixXd H = layer.activations(n.apply(data.X));
-  const Eigen::VectorXd T = n.apply_target(data.y);
-  OnlineSequentialElm os(L, 1, 1e-5);
-  os.initialize(H.topRows(2 * L), T.head(2 * L));
+  OselmSetup s{layer.activations(n.apply(data.X)), n.apply_target(data.y),
+               OnlineSequentialElm(L, 1, 1e-5)};
+  s.os.initialize(s.H.topRows(2 * L), s.T.head(2 * L));
+  return s;
+}
+
+/// OSELM sequential phase, one sample (rank-one Woodbury update of P and beta).
+void BM_OselmUpdateOne(benchmark::State& state) {
+  const int L = static_cast<int>(state.range(0));
+  auto [H, T, os] = make_oselm(L);
   Eigen::Index r = 2 * L;
   for (auto _ : state) {
     os.update_one(H.row(r).transpose(), T.segment(r, 1));
@@ -108,14 +119,7 @@ BENCHMARK(BM_OselmUpdateOne)->Arg(100)->Arg(500)->Arg(1000)->Unit(benchmark::kMi
 void BM_OselmChunkPerSample(benchmark::State& state) {
   const int L = static_cast<int>(state.range(0));
   const int chunk = static_cast<int>(state.range(1));
-  FeatureConfig features;
-  const RunFeatures data = extract_training_set(pointers(), features);
-  const Normalizer n = Normalizer::fit(data.X, data.y);
-  const HiddenLayer layer(features.dimension(), L, 1, 2.0 / std::sqrt(features.dimension()));
-  const Eigen::MatrixXd H = layer.activations(n.apply(data.X));
-  const Eigen::VectorXd T = n.apply_target(data.y);
-  OnlineSequentialElm os(L, 1, 1e-5);
-  os.initialize(H.topRows(2 * L), T.head(2 * L));
+  auto [H, T, os] = make_oselm(L);
   Eigen::Index r = 2 * L;
   for (auto _ : state) {
     os.update(H.middleRows(r, chunk), T.segment(r, chunk));
