@@ -70,7 +70,10 @@ fs::path make_dataset(const std::string& name, int frames) {
 }
 
 int run(const std::string& args, std::string* err = nullptr) {
-  const std::string err_file = ::testing::TempDir() + "/vid_track_stderr.txt";
+  // One file per test: CTest runs the tests of this binary as parallel processes.
+  const std::string err_file = ::testing::TempDir() + "/vid_track_stderr_" +
+                               ::testing::UnitTest::GetInstance()->current_test_info()->name() +
+                               ".txt";
   const int rc = std::system((kTrack + " " + args + " 2> " + err_file).c_str());
   if (err) {
     std::ifstream f(err_file);
