@@ -11,7 +11,9 @@ coefficient. The combined curve sums the three axes' cross-correlations (so the 
 most force variation weigh most). The peak is searched over ``|lag| <= max_lag_s`` and refined
 to a fraction of a sample by a parabola through the peak and its two neighbours. A positive lag
 means the estimate lags (``est(t) ~ gt(t - lag)``). The lag is ``None`` when the peak lies on
-the edge of the search range (the true peak is outside) or a series is constant.
+the edge of the search range (the true peak is outside) or a series is constant. A periodic
+force (one sine on an axis) correlates equally well one period away, so that axis's lag is
+ambiguous; the combined lag is the one to read.
 
 **Noise band.** A noisy ground truth must neither create steps nor hide them, so every band
 below is widened by ``noise_band = noise_k * ||sigma||``. ``sigma`` is the truth's per-axis
