@@ -1,5 +1,6 @@
 #include "io/csv_reader.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 
@@ -58,6 +59,15 @@ void CsvReader::expect_columns(std::size_t n) const {
   if (fields_.size() != n) {
     fail("expected " + std::to_string(n) + " columns, got " + std::to_string(fields_.size()) +
          (fields_.size() < n ? " (truncated row or missing column)" : ""));
+  }
+}
+
+void CsvReader::expect_columns(std::size_t n, std::size_t alt) const {
+  if (alt == n || alt == 0) return expect_columns(n);
+  if (fields_.size() != n && fields_.size() != alt) {
+    fail("expected " + std::to_string(n) + " or " + std::to_string(alt) + " columns, got " +
+         std::to_string(fields_.size()) +
+         (fields_.size() < std::min(n, alt) ? " (truncated row or missing column)" : ""));
   }
 }
 

@@ -115,9 +115,12 @@ void DatasetReader::Impl::open_streams() {
   if (!o.read_groundtruth) return;
   if (present.count("force0")) {
     static const char* const kF[3] = {"f_x [N]", "f_y [N]", "f_z [N]"};
+    static const char* const kDF[3] = {"dFx/dt [N s^-1]", "dFy/dt [N s^-1]", "dFz/dt [N s^-1]"};
+    // 4 columns (force only) or 7 (plus its rate, simulator output since issue #17).
     cursors.push_back(make_row_cursor(csv("force0"), "force0", 4, [](const CsvReader& c, TimeNs t) -> Measurement {
-      return ForceSample{t, vec3(c, 1, kF)};
-    }, o));
+      const bool rate = c.size() == 7;
+      return ForceSample{t, vec3(c, 1, kF), rate ? vec3(c, 4, kDF) : Eigen::Vector3d::Zero(), rate};
+    }, o, 7));
   }
   if (present.count("mass0")) {
     cursors.push_back(make_row_cursor(csv("mass0"), "mass0", 2, [](const CsvReader& c, TimeNs t) -> Measurement {

@@ -87,6 +87,7 @@ struct DatasetWriter::Impl {
   fs::path mav0;
   std::map<std::string, std::unique_ptr<CsvOut>> files;
   std::size_t rotor_count = 0;
+  int force_rate = -1;  ///< force0 with rate columns: -1 not yet known, 0 no, 1 yes
   bool closed = false;
 
   CsvOut& file(const std::string& stream, const std::string& header) {
@@ -158,9 +159,18 @@ void DatasetWriter::write(const ThrustSample& s) {
 }
 
 void DatasetWriter::write(const ForceSample& s) {
-  CsvOut& f = impl_->file("force0", "#timestamp [ns],f_x [N],f_y [N],f_z [N]");
+  // The rate columns are written when the first sample has them (a stream never mixes).
+  if (impl_->force_rate < 0) impl_->force_rate = s.has_rate ? 1 : 0;
+  if (s.has_rate != (impl_->force_rate == 1)) {
+    throw DatasetError((impl_->mav0 / "force0/data.csv").string() + ": force sample at " + std::to_string(s.t_ns) +
+                       (s.has_rate ? " has" : " lacks") + " a force rate, earlier rows do not");
+  }
+  CsvOut& f = impl_->file("force0", s.has_rate ? "#timestamp [ns],f_x [N],f_y [N],f_z [N],"
+                                                 "dFx/dt [N s^-1],dFy/dt [N s^-1],dFz/dt [N s^-1]"
+                                               : "#timestamp [ns],f_x [N],f_y [N],f_z [N]");
   f.begin(s.t_ns);
   f.add(s.f_W_N);
+  if (s.has_rate) f.add(s.df_W_Nps);
   f.end();
 }
 

@@ -12,9 +12,9 @@ TimedRows::TimedRows(const std::filesystem::path& path, std::string name, const 
   stats_.name = std::move(name);
 }
 
-bool TimedRows::next(std::size_t columns, TimeNs* t, bool allow_equal) {
+bool TimedRows::next(std::size_t columns, TimeNs* t, bool allow_equal, std::size_t alt_columns) {
   while (csv_.next_row()) {
-    csv_.expect_columns(columns);
+    csv_.expect_columns(columns, alt_columns);
     const TimeNs ts = csv_.get_int(0, "timestamp [ns]");
     if (ts < 0) csv_.fail("negative timestamp " + std::to_string(ts));
     if (have_last_ && (ts < last_ || (ts == last_ && !allow_equal))) {
@@ -69,9 +69,9 @@ namespace {
 
 class RowCursor final : public Cursor {
  public:
-  RowCursor(const std::filesystem::path& csv, const std::string& name, std::size_t columns, RowParser parser,
-            const ReaderOptions& options)
-      : rows_(csv, name, options), columns_(columns), parser_(std::move(parser)) {
+  RowCursor(const std::filesystem::path& csv, const std::string& name, std::size_t columns, std::size_t alt_columns,
+            RowParser parser, const ReaderOptions& options)
+      : rows_(csv, name, options), columns_(columns), alt_columns_(alt_columns), parser_(std::move(parser)) {
     advance();
     rows_.require_rows();
   }
@@ -82,7 +82,7 @@ class RowCursor final : public Cursor {
  protected:
   void advance() override {
     TimeNs t = 0;
-    if (!rows_.next(columns_, &t)) {
+    if (!rows_.next(columns_, &t, false, alt_columns_)) {
       head_.reset();
       return;
     }
@@ -94,6 +94,7 @@ class RowCursor final : public Cursor {
  private:
   TimedRows rows_;
   std::size_t columns_;
+  std::size_t alt_columns_;
   RowParser parser_;
 };
 
@@ -266,8 +267,9 @@ class FeatureCursor final : public Cursor {
 }  // namespace
 
 std::unique_ptr<Cursor> make_row_cursor(const std::filesystem::path& csv, const std::string& name,
-                                        std::size_t columns, RowParser parser, const ReaderOptions& options) {
-  return std::make_unique<RowCursor>(csv, name, columns, std::move(parser), options);
+                                        std::size_t columns, RowParser parser, const ReaderOptions& options,
+                                        std::size_t alt_columns) {
+  return std::make_unique<RowCursor>(csv, name, columns, alt_columns, std::move(parser), options);
 }
 
 std::unique_ptr<Cursor> make_camera_cursor(const std::filesystem::path& mav0, const std::vector<int>& cam_ids,

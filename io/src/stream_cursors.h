@@ -20,9 +20,10 @@ namespace vid::io::detail {
 class TimedRows {
  public:
   TimedRows(const std::filesystem::path& path, std::string name, const ReaderOptions& options);
-  /// @brief Next row with exactly @p columns fields whose timestamp passes the order check
-  /// (strictly after the last accepted one, or equal when @p allow_equal). False at end.
-  bool next(std::size_t columns, TimeNs* t, bool allow_equal = false);
+  /// @brief Next row with exactly @p columns fields (or @p alt_columns when nonzero) whose
+  /// timestamp passes the order check (strictly after the last accepted one, or equal when
+  /// @p allow_equal). False at end.
+  bool next(std::size_t columns, TimeNs* t, bool allow_equal = false, std::size_t alt_columns = 0);
   /// @brief Count an emitted sample at @p t (updates span and largest gap).
   void record(TimeNs t);
   /// @brief Count a row dropped for a missing image.
@@ -65,10 +66,12 @@ class Cursor {
   TimeNs head_time_ = 0;
 };
 
-/// @brief One-row-per-sample CSV (imu0, rotor0, thrust0, force0, mass0, ground truth).
+/// @brief One-row-per-sample CSV (imu0, rotor0, thrust0, force0, mass0, ground truth); rows
+/// have @p columns fields, or @p alt_columns when nonzero (optional trailing columns).
 using RowParser = std::function<Measurement(const CsvReader&, TimeNs)>;
 std::unique_ptr<Cursor> make_row_cursor(const std::filesystem::path& csv, const std::string& name,
-                                        std::size_t columns, RowParser parser, const ReaderOptions& options);
+                                        std::size_t columns, RowParser parser, const ReaderOptions& options,
+                                        std::size_t alt_columns = 0);
 
 /// @brief camN/data.csv files merged into ImageFrames (images of equal timestamp grouped).
 std::unique_ptr<Cursor> make_camera_cursor(const std::filesystem::path& mav0, const std::vector<int>& cam_ids,

@@ -92,6 +92,10 @@ inline WrittenSequence write_sequence(const std::filesystem::path& root, SeqKind
       writer.write(ts);
       all.push_back(ts);
       ForceSample fs{t, r3()};
+      if (kind == SeqKind::kFeatures) {  // 7-column force0 (with its rate); the others keep 4
+        fs.df_W_Nps = r3();
+        fs.has_rate = true;
+      }
       writer.write(fs);
       all.push_back(fs);
     }

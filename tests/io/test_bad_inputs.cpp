@@ -57,7 +57,7 @@ TEST_F(BadInput, TruncatedRow) {
 TEST_F(BadInput, TruncatedRowAtComma) {
   const std::string row = line_of("force0/data.csv", 5);
   set_line("force0/data.csv", 5, row.substr(0, row.rfind(',')));
-  expect_error("force0/data.csv", ":5:", "expected 4 columns, got 3");
+  expect_error("force0/data.csv", ":5:", "expected 4 or 7 columns, got 3 (truncated row or missing column)");
 }
 
 // 2. text in a number field
@@ -93,6 +93,11 @@ TEST_F(BadInput, MissingColumn) {
   for (std::size_t i = 1; i < lines.size(); ++i) lines[i] = lines[i].substr(0, lines[i].rfind(','));
   write_lines(mav0_ / "state_groundtruth_estimate0/data.csv", lines);
   expect_error("state_groundtruth_estimate0/data.csv", ":2:", "expected 17 columns, got 16");
+}
+
+TEST_F(BadInput, Force0NeitherFourNorSevenColumns) {  // 4 = force only, 7 = force and its rate
+  set_line("force0/data.csv", 2, line_of("force0/data.csv", 2) + ",1.0");
+  expect_error("force0/data.csv", ":2:", "expected 4 or 7 columns, got 5");
 }
 
 TEST_F(BadInput, RotorColumnsDisagreeWithSensorYaml) {

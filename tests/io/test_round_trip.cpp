@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "dataset_fixture.h"
 #include "io/dataset_reader.h"
 #include "io/dataset_writer.h"
@@ -26,7 +28,10 @@ void expect_same(const Measurement& a, const Measurement& b, std::size_t i) {
   } else if (auto* x = std::get_if<ThrustSample>(&a)) {
     EXPECT_EQ(x->thrust_N, std::get<ThrustSample>(b).thrust_N);
   } else if (auto* x = std::get_if<ForceSample>(&a)) {
-    EXPECT_EQ(x->f_W_N, std::get<ForceSample>(b).f_W_N);
+    const auto& y = std::get<ForceSample>(b);
+    EXPECT_EQ(x->f_W_N, y.f_W_N);
+    EXPECT_EQ(x->has_rate, y.has_rate);
+    EXPECT_EQ(x->df_W_Nps, y.df_W_Nps);  // zero when the file has no rate columns
   } else if (auto* x = std::get_if<MassSample>(&a)) {
     EXPECT_EQ(x->mass_kg, std::get<MassSample>(b).mass_kg);
   } else if (auto* x = std::get_if<GroundTruthSample>(&a)) {
@@ -219,6 +224,45 @@ TEST(Writer, RefusesUnsortedTimestampsNonFiniteValuesAndColourImages) {
   EXPECT_THROW(w.write(RotorSample{11, {1.0, 2.0, 3.0}}), DatasetError);
   w.close();
   EXPECT_THROW(w.write(MassSample{20, 1.0}), DatasetError);
+}
+
+TEST(RoundTrip, Force0WithAndWithoutRateColumns) {
+  // Old 4-column files read with has_rate false and a zero rate; the 7-column ones exactly.
+  for (const bool with_rate : {false, true}) {
+    SCOPED_TRACE(with_rate ? "7 columns" : "4 columns");
+    ScratchDir dir(with_rate ? "_7" : "_4");
+    {
+      DatasetWriter w(dir.path());
+      w.write(ImuSample{1, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+      ForceSample f{1, Eigen::Vector3d(1.5, -2.25, 3.125)};
+      f.has_rate = with_rate;
+      if (with_rate) f.df_W_Nps = Eigen::Vector3d(-1e-3, 250.5, 1.0 / 3.0);
+      w.write(f);
+    }
+    const auto lines = read_lines(dir.path() / "mav0" / "force0" / "data.csv");
+    ASSERT_EQ(lines.size(), 2u);
+    EXPECT_EQ(std::count(lines[0].begin(), lines[0].end(), ','), with_rate ? 6 : 3) << lines[0];
+    EXPECT_EQ(lines[0].find("dFx/dt [N s^-1]") != std::string::npos, with_rate) << lines[0];
+    DatasetReader reader(dir.path());
+    bool seen = false;
+    while (auto m = reader.next()) {
+      if (const auto* f = std::get_if<ForceSample>(&*m)) {
+        seen = true;
+        EXPECT_EQ(f->f_W_N, Eigen::Vector3d(1.5, -2.25, 3.125));
+        EXPECT_EQ(f->has_rate, with_rate);
+        EXPECT_EQ(f->df_W_Nps, with_rate ? Eigen::Vector3d(-1e-3, 250.5, 1.0 / 3.0) : Eigen::Vector3d::Zero());
+      }
+    }
+    EXPECT_TRUE(seen);
+  }
+}
+
+TEST(Writer, RefusesForceRowsThatMixRateAndNoRate) {
+  ScratchDir dir;
+  DatasetWriter w(dir.path());
+  w.write(ForceSample{1, Eigen::Vector3d::Ones()});
+  ForceSample with_rate{2, Eigen::Vector3d::Ones(), Eigen::Vector3d::Ones(), true};
+  EXPECT_THROW(w.write(with_rate), DatasetError);
 }
 
 TEST(Writer, FlushesRowsAsItGoes) {

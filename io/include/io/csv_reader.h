@@ -40,6 +40,8 @@ class CsvReader {
 
   /// @brief Throw unless the row has exactly @p n fields ("expected n columns, got m").
   void expect_columns(std::size_t n) const;
+  /// @brief Throw unless the row has @p n or @p alt fields (a stream with optional columns).
+  void expect_columns(std::size_t n, std::size_t alt) const;
   /// @brief Field @p i as an integer (timestamps, ids); throws naming file:line and column.
   std::int64_t get_int(std::size_t i, std::string_view column) const;
   /// @brief Field @p i as a finite double; NaN/Inf and text throw naming file:line and column.

@@ -64,10 +64,13 @@ struct FeatureFrame {
   std::vector<FeatureObservation> observations;
 };
 
-/// @brief Ground-truth external force in WORLD frame [N] (force0).
+/// @brief Ground-truth external force in WORLD frame [N] (force0), optionally with its rate
+/// (force0 files of 7 columns; older 4-column files have none).
 struct ForceSample {
   TimeNs t_ns = 0;
   Eigen::Vector3d f_W_N = Eigen::Vector3d::Zero();
+  Eigen::Vector3d df_W_Nps = Eigen::Vector3d::Zero();  ///< dF/dt [N/s], W; zero when absent
+  bool has_rate = false;                               ///< df_W_Nps was given
 };
 
 /// @brief Ground-truth mass [kg] (mass0).
