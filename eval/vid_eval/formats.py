@@ -62,6 +62,10 @@ FORCE_COLUMNS: List[Column] = (
 #: Ground-truth external force ``force0/data.csv`` (world frame, Newton).
 FORCE0_COLUMNS: List[Column] = [("timestamp", "ns")] + _xyz("f", "N")
 
+#: Optional force-rate columns of ``force0/data.csv`` (simulator output since issue #17):
+#: ``dFx/dt, dFy/dt, dFz/dt [N s^-1]`` after the force (7 columns in all).
+FORCE0_RATE_COLUMNS: List[Column] = [(f"dF{a}/dt", "N s^-1") for a in "xyz"]
+
 #: Ground-truth mass ``mass0/data.csv``; also the format of a mass estimate (optional sigma).
 MASS_COLUMNS: List[Column] = [("timestamp", "ns"), ("mass", "kg")]
 MASS_SIGMA_COLUMN: Column = ("sigma", "kg")

@@ -114,9 +114,11 @@ def load_force_estimate(path: PathLike) -> tuple[VectorSeries, VectorSeries]:
 
 
 def load_force_gt(path: PathLike) -> VectorSeries:
-    """Ground-truth ``force0/data.csv``: world frame, Newton."""
-    tab = read_table(path, {len(formats.FORCE0_COLUMNS)}, what="force0 CSV")
-    return VectorSeries(tab.t_ns, tab.values.copy(), "world", "N", None, tab.path)
+    """Ground-truth ``force0/data.csv``: world frame, Newton. Files with the three force-rate
+    columns (7 columns) load too; the rate is not part of the returned series."""
+    n = len(formats.FORCE0_COLUMNS)
+    tab = read_table(path, {n, n + len(formats.FORCE0_RATE_COLUMNS)}, what="force0 CSV")
+    return VectorSeries(tab.t_ns, tab.values[:, : n - 1].copy(), "world", "N", None, tab.path)
 
 
 def load_mass(path: PathLike) -> ScalarSeries:
