@@ -27,6 +27,9 @@ SimEnvironment::SimEnvironment(const EnvironmentConfig& config, double initial_m
       g = phi * g + q * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
     }
   }
+  impacts_ = config_.impacts;
+  const auto drawn = draw_random_impacts(config_.random_impacts, duration_s, derive_seed(seed, 0x696d7061ULL));
+  impacts_.insert(impacts_.end(), drawn.begin(), drawn.end());
   // The mass must stay physical over the whole run.
   double lowest = initial_mass_kg;
   for (double t = 0.0; t <= duration_s + 1.0; t += 0.01) lowest = std::min(lowest, mass_kg(t));
@@ -34,41 +37,68 @@ SimEnvironment::SimEnvironment(const EnvironmentConfig& config, double initial_m
     throw std::invalid_argument("mass: payload drops / mass loss take the mass below 10 % of the initial mass");
 }
 
-Eigen::Vector3d SimEnvironment::wind_velocity_W(double t) const {
-  Eigen::Vector3d v = config_.wind.mean_mps;
+std::pair<Eigen::Vector3d, Eigen::Vector3d> SimEnvironment::wind_and_rate_W(double t) const {
+  Eigen::Vector3d v = config_.wind.mean_mps, dv = Eigen::Vector3d::Zero();
   if (!gusts_.empty()) {
     const double x = std::max(0.0, t) / gust_dt_s_;
     const std::size_t i = std::min(static_cast<std::size_t>(x), gusts_.size() - 2);
     const double f = std::min(1.0, x - static_cast<double>(i));
     v += (1.0 - f) * gusts_[i] + f * gusts_[i + 1];
+    if (t > 0.0 && f < 1.0) dv = (gusts_[i + 1] - gusts_[i]) / gust_dt_s_;  // slope of the segment
   }
-  return v;
+  return {v, dv};
 }
 
+Eigen::Vector3d SimEnvironment::wind_velocity_W(double t) const { return wind_and_rate_W(t).first; }
+
 Eigen::Vector3d SimEnvironment::rope_force_W(const dynamics::QuadrotorState& x) const {
-  const RopeConfig& r = config_.rope;
-  const Eigen::Vector3d d = x.p_WI - r.anchor_W;
-  const double len = d.norm();
-  const double stretch = len - r.rest_length_m;
-  if (!r.enabled || stretch <= 0.0 || len < 1e-9) return Eigen::Vector3d::Zero();
-  const Eigen::Vector3d u = d / len;
-  const double rate = u.dot(x.v_WI);
-  const double fade = r.damping_ramp_m > 0.0 ? std::min(1.0, stretch / r.damping_ramp_m) : 1.0;
-  const double tension = std::max(0.0, r.stiffness_N_per_m * stretch + fade * r.damping_Ns_per_m * rate);
-  return -tension * u;
+  return rope_force(config_.rope, x.p_WI, x.v_WI, Eigen::Vector3d::Zero()).f_W;
+}
+
+Eigen::Vector3d SimEnvironment::tether_force_W(const dynamics::QuadrotorState& x) const {
+  return rope_force(config_.tether, x.p_WI, x.v_WI, Eigen::Vector3d::Zero()).f_W;
+}
+
+ForceAndRate SimEnvironment::evaluate(double t, const dynamics::QuadrotorState& x, const Eigen::Vector3d& a_W) const {
+  ForceAndRate sum;
+  auto add = [&sum](const ForceAndRate& s) {
+    sum.f_W += s.f_W;
+    sum.df_W += s.df_W;
+  };
+  add(rope_force(config_.rope, x.p_WI, x.v_WI, a_W));
+  add(rope_force(config_.tether, x.p_WI, x.v_WI, a_W));
+  if (config_.wind.enabled) {
+    const auto [v_air, dv_air] = wind_and_rate_W(t);
+    add({config_.wind.drag_N_per_mps * (v_air - x.v_WI), config_.wind.drag_N_per_mps * (dv_air - a_W)});
+  }
+  for (const PushConfig& p : config_.pushes) add(pulse_force(p, t));
+  for (const PushConfig& p : impacts_) add(pulse_force(p, t));
+  // Body-frame steps: F_W = R_WI F_I, dF_W/dt = R_WI (w_I x F_I + dF_I/dt).
+  Eigen::Vector3d f_I = Eigen::Vector3d::Zero(), df_I = Eigen::Vector3d::Zero();
+  for (const ForceStepConfig& s : config_.steps) {
+    const Eigen::Vector2d k = step_fraction(s, t);
+    if (s.body_frame) {
+      f_I += k[0] * s.force_N;
+      df_I += k[1] * s.force_N;
+    } else {
+      add({k[0] * s.force_N, k[1] * s.force_N});
+    }
+  }
+  if (!f_I.isZero() || !df_I.isZero()) {
+    const Eigen::Matrix3d R_WI = x.q_WI.toRotationMatrix();
+    add({R_WI * f_I, R_WI * (x.w_I.cross(f_I) + df_I)});
+  }
+  add(config_.from_file.eval(t));
+  return sum;
 }
 
 Eigen::Vector3d SimEnvironment::force_W(double t, const dynamics::QuadrotorState& x) const {
-  Eigen::Vector3d f = rope_force_W(x);
-  if (config_.wind.enabled) f += config_.wind.drag_N_per_mps * (wind_velocity_W(t) - x.v_WI);
-  for (const PushConfig& p : config_.pushes) {
-    const double u = (t - p.t_s) / p.duration_s;
-    if (u > 0.0 && u < 1.0) {
-      const double s = std::sin(M_PI * u);
-      f += p.force_N * s * s;
-    }
-  }
-  return f;
+  return evaluate(t, x, Eigen::Vector3d::Zero()).f_W;
+}
+
+Eigen::Vector3d SimEnvironment::force_rate_W(double t, const dynamics::QuadrotorState& x,
+                                             const Eigen::Vector3d& a_W) const {
+  return evaluate(t, x, a_W).df_W;
 }
 
 double SimEnvironment::mass_kg(double t) const {
@@ -84,6 +114,17 @@ double SimEnvironment::mass_kg(double t) const {
   if (l.rate_kg_per_s > 0.0 && l.end_s > l.start_s)
     m -= l.rate_kg_per_s * std::clamp(t - l.start_s, 0.0, l.end_s - l.start_s);
   return m;
+}
+
+Eigen::Vector3d external_force_rate_W(const SimEnvironment& env, const dynamics::QuadrotorParams& vehicle,
+                                      double t, const dynamics::QuadrotorState& x, const Eigen::Vector3d& a_W) {
+  // d/dt (-R D R^T v) with dR/dt = R [w]x: -R (w x (D v_I) - D (w x v_I) + D R^T a).
+  const Eigen::Matrix3d R_WI = x.q_WI.toRotationMatrix();
+  const Eigen::Vector3d& d = vehicle.linear_drag;
+  const Eigen::Vector3d v_I = R_WI.transpose() * x.v_WI;
+  const Eigen::Vector3d drag_rate_I =
+      x.w_I.cross(d.cwiseProduct(v_I)) - d.cwiseProduct(x.w_I.cross(v_I)) + d.cwiseProduct(R_WI.transpose() * a_W);
+  return env.force_rate_W(t, x, a_W) - R_WI * drag_rate_I;
 }
 
 }  // namespace vid::sim

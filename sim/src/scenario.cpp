@@ -71,21 +71,107 @@ void parse_trajectory(const YamlSection& t, const std::filesystem::path& base_di
   if (c->start_delay_s < 0.0) t.fail("start_delay_s", "must be >= 0");
 }
 
+namespace {
+
+/// @brief rope / tether section; the tether has no damping fade (it snaps taut).
+void parse_rope(const YamlSection& r, bool with_fade, RopeConfig* rope) {
+  rope->enabled = r.flag("enabled", true);
+  rope->anchor_W = r.vec3("anchor", rope->anchor_W);
+  rope->rest_length_m = r.num("rest_length_m", rope->rest_length_m);
+  rope->stiffness_N_per_m = r.num("stiffness_N_per_m", rope->stiffness_N_per_m);
+  rope->damping_Ns_per_m = r.num("damping_Ns_per_m", rope->damping_Ns_per_m);
+  rope->damping_ramp_m = with_fade ? r.num("damping_ramp_m", rope->damping_ramp_m) : 0.0;
+  r.finish();
+  if (!(rope->rest_length_m >= 0.0)) r.fail("rest_length_m", "must be >= 0");
+  if (!(rope->stiffness_N_per_m >= 0.0)) r.fail("stiffness_N_per_m", "must be >= 0");
+  if (!(rope->damping_Ns_per_m >= 0.0)) r.fail("damping_Ns_per_m", "must be >= 0");
+  if (!(rope->damping_ramp_m >= 0.0)) r.fail("damping_ramp_m", "must be >= 0");
+}
+
+/// @brief {t_s, force_N, duration_s} pulse (pushes, listed impacts).
+PushConfig parse_pulse(const YamlSection& p, double default_duration_s) {
+  PushConfig push;
+  push.t_s = p.num("t_s");
+  push.force_N = p.vec3("force_N", push.force_N);
+  push.duration_s = p.num("duration_s", default_duration_s);
+  p.finish();
+  if (!(push.duration_s > 0.0)) p.fail("duration_s", "must be > 0");
+  return push;
+}
+
+/// @brief [lo, hi] with 0 < lo <= hi (a single number means lo = hi).
+Eigen::Vector2d parse_range(const YamlSection& s, const std::string& key, const Eigen::Vector2d& fallback) {
+  if (!s.has(key)) {
+    s.raw(key);
+    return fallback;
+  }
+  const YAML::Node n = s.raw(key);
+  const std::vector<double> v = n.IsScalar() ? std::vector<double>(2, s.num(key)) : s.nums(key, 2);
+  if (!(v[0] > 0.0 && v[1] >= v[0])) s.fail(key, "expected [min, max] with 0 < min <= max");
+  return Eigen::Vector2d(v[0], v[1]);
+}
+
+void parse_impacts(const YamlSection& s, EnvironmentConfig* e) {
+  for (const YamlSection& p : s.list("list")) e->impacts.push_back(parse_pulse(p, 0.03));
+  if (s.has("random")) {
+    const YamlSection r = s.sub("random");
+    RandomImpactsConfig& c = e->random_impacts;
+    c.rate_per_s = r.num("rate_per_s");
+    const Eigen::Vector2d peak = parse_range(r, "peak_N", {c.peak_min_N, c.peak_max_N});
+    const Eigen::Vector2d dur = parse_range(r, "duration_s", {c.duration_min_s, c.duration_max_s});
+    c.peak_min_N = peak[0];
+    c.peak_max_N = peak[1];
+    c.duration_min_s = dur[0];
+    c.duration_max_s = dur[1];
+    c.start_s = r.num("start_s", c.start_s);
+    c.end_s = r.num("end_s", c.end_s);
+    c.directions = r.str("directions", c.directions);
+    r.finish();
+    if (!(c.rate_per_s >= 0.0)) r.fail("rate_per_s", "must be >= 0");
+    if (c.directions != "horizontal" && c.directions != "up" && c.directions != "any")
+      r.fail("directions", "expected horizontal, up or any, got '" + c.directions + "'");
+  } else {
+    s.raw("random");
+  }
+  s.finish();
+}
+
+ForceStepConfig parse_step(const YamlSection& p) {
+  ForceStepConfig step;
+  step.t_s = p.num("t_s");
+  step.force_N = p.vec3("force_N", step.force_N);
+  const std::string frame = p.str("frame", "world");
+  if (frame != "world" && frame != "body") p.fail("frame", "expected world or body, got '" + frame + "'");
+  step.body_frame = frame == "body";
+  step.rise_s = p.num("rise_s", 0.0);
+  p.finish();
+  if (!(step.rise_s >= 0.0)) p.fail("rise_s", "must be >= 0");
+  return step;
+}
+
+void parse_from_file(const YamlSection& s, EnvironmentConfig* e) {
+  const std::string file = s.str("file", "");
+  s.finish();
+  if (file.empty()) s.fail("file", "missing force CSV (t_ns, Fx, Fy, Fz)");
+  std::filesystem::path p(file);
+  if (p.is_relative()) p = std::filesystem::path(s.file()).parent_path() / p;  // relative to the scenario
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(p, ec)) s.fail("file", "no such file '" + p.string() + "'");
+  e->from_file = load_force_table(p);  // malformed rows: io::DatasetError "FILE:LINE: column N ..."
+}
+
+}  // namespace
+
 void parse_forces(const YamlSection& f, EnvironmentConfig* e) {
   if (f.has("rope")) {
-    const YamlSection r = f.sub("rope");
-    e->rope.enabled = r.flag("enabled", true);
-    e->rope.anchor_W = r.vec3("anchor", e->rope.anchor_W);
-    e->rope.rest_length_m = r.num("rest_length_m", e->rope.rest_length_m);
-    e->rope.stiffness_N_per_m = r.num("stiffness_N_per_m", e->rope.stiffness_N_per_m);
-    e->rope.damping_Ns_per_m = r.num("damping_Ns_per_m", e->rope.damping_Ns_per_m);
-    e->rope.damping_ramp_m = r.num("damping_ramp_m", e->rope.damping_ramp_m);
-    r.finish();
-    if (!(e->rope.rest_length_m >= 0.0)) r.fail("rest_length_m", "must be >= 0");
-    if (!(e->rope.stiffness_N_per_m >= 0.0)) r.fail("stiffness_N_per_m", "must be >= 0");
-    if (!(e->rope.damping_Ns_per_m >= 0.0)) r.fail("damping_Ns_per_m", "must be >= 0");
+    parse_rope(f.sub("rope"), true, &e->rope);
   } else {
     f.raw("rope");
+  }
+  if (f.has("tether")) {
+    parse_rope(f.sub("tether"), false, &e->tether);
+  } else {
+    f.raw("tether");
   }
   if (f.has("wind")) {
     const YamlSection w = f.sub("wind");
@@ -100,14 +186,17 @@ void parse_forces(const YamlSection& f, EnvironmentConfig* e) {
   } else {
     f.raw("wind");
   }
-  for (const YamlSection& p : f.list("pushes")) {
-    PushConfig push;
-    push.t_s = p.num("t_s");
-    push.force_N = p.vec3("force_N", push.force_N);
-    push.duration_s = p.num("duration_s", push.duration_s);
-    p.finish();
-    if (!(push.duration_s > 0.0)) p.fail("duration_s", "must be > 0");
-    e->pushes.push_back(push);
+  for (const YamlSection& p : f.list("pushes")) e->pushes.push_back(parse_pulse(p, PushConfig{}.duration_s));
+  if (f.has("impacts")) {
+    parse_impacts(f.sub("impacts"), e);
+  } else {
+    f.raw("impacts");
+  }
+  for (const YamlSection& p : f.list("steps")) e->steps.push_back(parse_step(p));
+  if (f.has("from_file")) {
+    parse_from_file(f.sub("from_file"), e);
+  } else {
+    f.raw("from_file");
   }
   f.finish();
 }

@@ -1,28 +1,19 @@
 #pragma once
 /// @file environment.h
-/// @brief External forces (elastic rope, wind with gusts, impulsive pushes) and the mass
-/// profile (payload pick-up/drop, continuous mass loss) as deterministic functions of time
-/// and vehicle state.
+/// @brief External forces (elastic rope, tether, wind with gusts, pushes, impacts, force
+/// steps, a replayed force table) and the mass profile (payload pick-up/drop, continuous mass
+/// loss) as deterministic functions of time and vehicle state, with the force's time
+/// derivative for ground truth.
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "dynamics/quadrotor.h"
+#include "sim/force_sources.h"
 
 namespace vid::sim {
-
-/// @brief Elastic rope from a fixed anchor to the CoM; pulls only when stretched.
-struct RopeConfig {
-  bool enabled = false;
-  Eigen::Vector3d anchor_W = Eigen::Vector3d::Zero();  ///< [m]
-  double rest_length_m = 1.0;
-  double stiffness_N_per_m = 20.0;
-  double damping_Ns_per_m = 2.0;
-  /// Damping fades in over the first `damping_ramp_m` of stretch so the tension is continuous
-  /// when the rope becomes taut (a real rope does not jump either).
-  double damping_ramp_m = 0.02;
-};
 
 /// @brief Wind: air velocity = mean + Ornstein-Uhlenbeck gusts; force = c (v_air - v).
 struct WindConfig {
@@ -31,13 +22,6 @@ struct WindConfig {
   double gust_std_mps = 0.0;         ///< stationary std of each gust component
   double gust_time_constant_s = 2.0;
   double drag_N_per_mps = 0.3;       ///< linear air drag coefficient
-};
-
-/// @brief Impulsive push: F(t) = force sin^2(pi (t - t0) / duration) on [t0, t0 + duration].
-struct PushConfig {
-  double t_s = 0.0;
-  Eigen::Vector3d force_N = Eigen::Vector3d::Zero();  ///< peak force, W
-  double duration_s = 0.2;
 };
 
 /// @brief Payload pick-up (delta > 0) or drop (delta < 0), blended over ramp_s (0 = step).
@@ -57,8 +41,13 @@ struct MassLossConfig {
 /// @brief Everything acting on the vehicle from outside.
 struct EnvironmentConfig {
   RopeConfig rope;
+  RopeConfig tether;                      ///< stiff rope, damping_ramp_m = 0 (snaps taut)
   WindConfig wind;
   std::vector<PushConfig> pushes;
+  std::vector<PushConfig> impacts;        ///< listed impacts (short sin^2 pulses)
+  RandomImpactsConfig random_impacts;
+  std::vector<ForceStepConfig> steps;
+  ForceTable from_file;                   ///< empty = none
   std::vector<PayloadEvent> payloads;
   MassLossConfig mass_loss;
 };
@@ -71,16 +60,35 @@ class SimEnvironment : public dynamics::Environment {
                  std::uint64_t seed);
   Eigen::Vector3d force_W(double t_s, const dynamics::QuadrotorState& x) const override;
   double mass_kg(double t_s) const override;
+  /// @brief d/dt force_W along the motion [N/s, W]; @p a_W is the vehicle's acceleration at
+  /// (t, x) (rope damping and wind drag depend on it). Analytic for every source; a true
+  /// force step contributes 0 (its rate is an impulse, not representable).
+  Eigen::Vector3d force_rate_W(double t_s, const dynamics::QuadrotorState& x, const Eigen::Vector3d& a_W) const;
   /// @brief Rope tension force alone [N, W] (zero when slack).
   Eigen::Vector3d rope_force_W(const dynamics::QuadrotorState& x) const;
+  /// @brief Tether tension force alone [N, W] (zero when slack).
+  Eigen::Vector3d tether_force_W(const dynamics::QuadrotorState& x) const;
   /// @brief Air velocity at t (mean + gust) [m/s].
   Eigen::Vector3d wind_velocity_W(double t_s) const;
+  /// @brief Every impact pulse (listed, then the random ones drawn from the seed).
+  const std::vector<PushConfig>& impacts() const { return impacts_; }
 
  private:
+  /// @brief Sum of all sources; the rate part uses @p a_W.
+  ForceAndRate evaluate(double t_s, const dynamics::QuadrotorState& x, const Eigen::Vector3d& a_W) const;
+  /// @brief Air velocity and its rate (slope of the gust interpolation).
+  std::pair<Eigen::Vector3d, Eigen::Vector3d> wind_and_rate_W(double t_s) const;
+
   EnvironmentConfig config_;
   double initial_mass_kg_;
   double gust_dt_s_ = 0.01;
   std::vector<Eigen::Vector3d> gusts_;  ///< gust samples every gust_dt_s_
+  std::vector<PushConfig> impacts_;
 };
+
+/// @brief Rate of the whole force0 ground truth (environment + linear rotor drag
+/// F_drag = -R diag(d) R^T v) [N/s, W], analytic, at (t, x) with acceleration @p a_W.
+Eigen::Vector3d external_force_rate_W(const SimEnvironment& env, const dynamics::QuadrotorParams& vehicle,
+                                      double t_s, const dynamics::QuadrotorState& x, const Eigen::Vector3d& a_W);
 
 }  // namespace vid::sim
