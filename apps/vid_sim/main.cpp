@@ -7,6 +7,8 @@
 #include <chrono>
 #include <cstdio>
 #include <optional>
+#include <stdexcept>
+#include <string>
 
 #include "app/progress.h"
 #include "app/run_main.h"
@@ -20,12 +22,16 @@ int main(int argc, char** argv) {
     std::string scenario_file, out_dir;
     std::optional<std::uint64_t> seed;
     std::optional<double> duration;
+    std::string heading;
     bool features_only = false, no_noise = false, quiet = false;
     cli.add_option("--scenario", scenario_file, "scenario YAML (see config/sim/README.md)")->required();
     cli.add_option("--out", out_dir, "output folder (DIR/mav0/...)")->required();
     cli.add_option("--seed", seed, "random seed (default: the scenario's seed)");
     cli.add_option("--duration", duration, "simulated duration [s] (default: the scenario's)")
         ->check(CLI::PositiveNumber);
+    cli.add_option("--initial-heading", heading,
+                   "heading at t = 0 in the written ground-truth world: degrees, or 'random' (drawn "
+                   "from the seed); default: the scenario's groundtruth.initial_heading_deg");
     cli.add_flag("--features-only", features_only, "write feat0 + landmarks.csv, no images");
     cli.add_flag("--no-noise", no_noise, "turn every sensor noise and random walk off");
     cli.add_flag("--quiet", quiet, "no log output");
@@ -45,6 +51,20 @@ int main(int argc, char** argv) {
       sc.duration_s = *duration;
       sc.trajectory.duration_s = *duration;
     }
+    if (heading == "random") {
+      sc.initial_heading_random = true;
+    } else if (!heading.empty()) {
+      try {
+        std::size_t used = 0;
+        sc.initial_heading_deg = std::stod(heading, &used);
+        if (used != heading.size()) throw std::invalid_argument(heading);
+      } catch (const std::exception&) {
+        std::fprintf(stderr, "vid_sim: error: --initial-heading: expected degrees or 'random', got '%s'\n",
+                     heading.c_str());
+        return 2;
+      }
+      sc.initial_heading_random = false;
+    }
     if (no_noise) sc.noise = false;
     if (features_only) {
       sc.cameras.images = false;
@@ -54,7 +74,8 @@ int main(int argc, char** argv) {
                  sc.duration_s, sc.cameras.cameras.size(), sc.cameras.images ? " with images" : "");
     const auto wall0 = std::chrono::steady_clock::now();
     vid::sim::Simulator sim(sc);
-    vid::sim::DatasetSink sink(out_dir, sc, vid::sim::make_visual_output(sc));
+    spdlog::info("vid_sim: initial heading {:.1f} deg in the ground-truth world", sim.initial_heading_deg());
+    vid::sim::DatasetSink sink(out_dir, sc, vid::sim::make_visual_output(sc), sim.R_GS());
     vid::app::ProgressBar bar("vid_sim", sc.duration_s);
     sim.run(sink, [&](double done, double) { bar.update(done, std::to_string(sink.camera_frames()) + " frames"); });
     sink.finish();

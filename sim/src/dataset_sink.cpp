@@ -5,8 +5,8 @@
 namespace vid::sim {
 
 DatasetSink::DatasetSink(const std::filesystem::path& root, const Scenario& sc,
-                         std::unique_ptr<VisualOutput> visual)
-    : writer_(root), visual_(std::move(visual)) {
+                         std::unique_ptr<VisualOutput> visual, const Eigen::Matrix3d& R_GS)
+    : writer_(root), visual_(std::move(visual)), R_GS_(R_GS) {
   ImuNoise imu = sc.imu.noise;
   writer_.write_imu_calibration(imu);
   for (const CameraCalib& c : sc.cameras.cameras) writer_.write_camera_calibration(c);
@@ -21,6 +21,21 @@ DatasetSink::~DatasetSink() {
   }
 }
 
+void DatasetSink::on_groundtruth(const GroundTruthSample& s) {
+  GroundTruthSample g = s;  // biases are body-frame: unchanged
+  g.p_WI = R_GS_ * s.p_WI;
+  g.v_WI = R_GS_ * s.v_WI;
+  g.q_WI = Eigen::Quaterniond(R_GS_ * s.q_WI.toRotationMatrix()).normalized();
+  writer_.write(g);
+}
+
+void DatasetSink::on_force(const ForceSample& s) {
+  ForceSample f = s;
+  f.f_W_N = R_GS_ * s.f_W_N;
+  f.df_W_Nps = R_GS_ * s.df_W_Nps;
+  writer_.write(f);
+}
+
 void DatasetSink::on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI) {
   if (visual_) visual_->on_camera(t_ns, frame_index, T_WI, writer_);
   ++frames_;
@@ -29,7 +44,7 @@ void DatasetSink::on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen:
 void DatasetSink::finish() {
   if (finished_) return;
   finished_ = true;
-  if (visual_) visual_->finish(writer_);
+  if (visual_) visual_->finish(writer_, R_GS_);
   writer_.close();
 }
 

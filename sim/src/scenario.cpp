@@ -255,6 +255,13 @@ void parse_sensors(const YamlSection& root, Scenario* s) {
   {
     const YamlSection g = root.sub("groundtruth");
     s->groundtruth_rate_hz = g.num("rate_hz", 200.0);
+    if (g.has("initial_heading_deg")) {
+      if (g.str("initial_heading_deg", "") == "random") {
+        s->initial_heading_random = true;
+      } else {
+        s->initial_heading_deg = g.num("initial_heading_deg");
+      }
+    }
     g.finish();
     if (!(s->groundtruth_rate_hz >= 200.0)) g.fail("rate_hz", "must be >= 200");
   }

@@ -29,7 +29,13 @@ class Schedule {
   std::uint64_t k_ = 0;
 };
 
-constexpr std::uint64_t kImuStream = 1, kRotorStream = 2, kEnvStream = 3;
+constexpr std::uint64_t kImuStream = 1, kRotorStream = 2, kEnvStream = 3, kHeadingStream = 4;
+
+/// @brief Yaw of R_WI [rad] (heading of the body x-axis about z).
+double yaw_of(const Eigen::Quaterniond& q_WI) {
+  const Eigen::Matrix3d R = q_WI.toRotationMatrix();
+  return std::atan2(R(1, 0), R(0, 0));
+}
 
 }  // namespace
 
@@ -38,6 +44,14 @@ Simulator::Simulator(const Scenario& scenario) : scenario_(scenario) {
   trajectory_ = make_trajectory(scenario_.trajectory);
   environment_ = std::make_unique<SimEnvironment>(scenario_.environment, scenario_.vehicle.mass_kg,
                                                   scenario_.duration_s, derive_seed(scenario_.seed, kEnvStream));
+  const double yaw0_deg = yaw_of(initial_state().q_WI) * 180.0 / M_PI;
+  heading_deg_ = yaw0_deg;
+  if (scenario_.initial_heading_random) {
+    heading_deg_ = Rng(derive_seed(scenario_.seed, kHeadingStream)).uniform(0.0, 360.0);
+  } else if (scenario_.initial_heading_deg) {
+    heading_deg_ = *scenario_.initial_heading_deg;
+  }
+  R_GS_ = Eigen::AngleAxisd((heading_deg_ - yaw0_deg) * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
 }
 
 Simulator::~Simulator() = default;
@@ -113,7 +127,8 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
       gt.b_g = imu.gyro_bias();
       gt.b_a = imu.accel_bias();
       sink.on_groundtruth(gt);
-      sink.on_force(ForceSample{t, f.external_W()});
+      sink.on_force(ForceSample{t, f.external_W(),
+                                external_force_rate_W(*environment_, model_->params(), ts, x, f.accel_W), true});
       sink.on_mass(MassSample{t, f.mass_kg});
       sink.on_truth(TruthSample{t, x, f, imu.gyro_bias(), imu.accel_bias()});
       gt_s.advance();

@@ -66,19 +66,21 @@ class RenderedOutput : public VisualOutput {
   }
 
   /// @brief landmarks.csv: every landmark the feature simulator created (id == feature id).
-  void finish(io::DatasetWriter& writer) override {
+  void finish(io::DatasetWriter& writer, const Eigen::Matrix3d& R_GS) override {
 #ifdef VID_SIM_HAS_FEATURES
     if (!features_) return;
     const std::filesystem::path path = writer.mav0() / "landmarks.csv";
     std::FILE* f = std::fopen(path.c_str(), "w");
     if (!f) throw std::runtime_error(path.string() + ": cannot write");
     std::fprintf(f, "#id,x,y,z\n");
-    for (const Landmark& l : features_->landmarks())
-      std::fprintf(f, "%llu,%.17g,%.17g,%.17g\n", static_cast<unsigned long long>(l.id), l.p_W.x(), l.p_W.y(),
-                   l.p_W.z());
+    for (const Landmark& l : features_->landmarks()) {
+      const Eigen::Vector3d p_G = R_GS * l.p_W;
+      std::fprintf(f, "%llu,%.17g,%.17g,%.17g\n", static_cast<unsigned long long>(l.id), p_G.x(), p_G.y(), p_G.z());
+    }
     if (std::fclose(f) != 0) throw std::runtime_error(path.string() + ": write failed");
 #else
     (void)writer;
+    (void)R_GS;
 #endif
   }
 

@@ -89,6 +89,48 @@ TEST(ForceRmse, NormOfErrorOverPairs) {
   EXPECT_EQ(pairs, 10u);
 }
 
+// The estimator's world has its own heading: the force compared after rotating it by the
+// ATE's yaw equals the error in the ground truth's world, at any heading.
+TEST(ForceRmse, GaugeRemovedByTheAteYaw) {
+  const Vec3Series gt_p = random_path(400, 11);
+  const double heading = 165.0 * M_PI / 180.0;
+  const Eigen::Matrix3d R_EG = Eigen::AngleAxisd(-heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  Vec3Series est_p = gt_p, gt_f, est_f;
+  const Eigen::Vector3d err_G(0.1, -0.2, 0.05);
+  for (std::size_t i = 0; i < gt_p.t_ns.size(); ++i) {
+    est_p.v[i] = R_EG * gt_p.v[i] + Eigen::Vector3d(2.0, -1.0, 0.3);
+    const double t = 0.01 * static_cast<double>(i);
+    gt_f.t_ns.push_back(gt_p.t_ns[i]);
+    gt_f.v.emplace_back(std::sin(t), 2.0 * std::cos(0.3 * t), -0.5);
+    est_f.t_ns.push_back(gt_p.t_ns[i]);
+    est_f.v.push_back(R_EG * (gt_f.v.back() + err_G));
+  }
+  const auto ate = ate_posyaw(est_p, gt_p);
+  ASSERT_TRUE(ate.has_value());
+  EXPECT_NEAR(std::remainder(ate->yaw_rad - heading, 2.0 * M_PI), 0.0, 1e-9);
+  const auto aligned = force_rmse(rotate_about_z(est_f, ate->yaw_rad), gt_f);
+  ASSERT_TRUE(aligned.has_value());
+  EXPECT_NEAR(*aligned, err_G.norm(), 1e-9);
+  EXPECT_GT(*force_rmse(est_f, gt_f), 5.0 * err_G.norm()) << "unaligned, the gauge dominates";
+}
+
+TEST(ForceRmse, WorldToBodyUsesTheNearestOrientation) {
+  Vec3Series f_W;
+  std::vector<TimeNs> t_R;
+  std::vector<Eigen::Matrix3d> R_WI;
+  for (int i = 0; i < 5; ++i) {
+    f_W.t_ns.push_back(i * 10'000'000LL);
+    f_W.v.emplace_back(1.0, 0.0, 0.0);
+    t_R.push_back(i * 10'000'000LL + 2'000'000);
+    R_WI.push_back(Eigen::AngleAxisd(0.5 * M_PI * i, Eigen::Vector3d::UnitZ()).toRotationMatrix());
+  }
+  t_R.back() += 50'000'000;  // the last orientation is too far away: its force is dropped
+  const Vec3Series f_I = world_to_body(f_W, t_R, R_WI);
+  ASSERT_EQ(f_I.t_ns.size(), 4u);
+  EXPECT_LT((f_I.v[1] - Eigen::Vector3d(0.0, -1.0, 0.0)).norm(), 1e-12);  // R_WI^T x_W, yaw 90 deg
+  EXPECT_LT((f_I.v[2] - Eigen::Vector3d(-1.0, 0.0, 0.0)).norm(), 1e-12);
+}
+
 TEST(Mass, InterpolatesAndHolds) {
   const std::vector<TimeNs> t{100, 200};
   const std::vector<double> m{3.0, 4.0};

@@ -1,5 +1,6 @@
 #include "runner/run_metrics.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -70,13 +71,30 @@ std::optional<AteResult> ate_posyaw(const Vec3Series& est, const Vec3Series& gt)
   return r;
 }
 
-std::optional<double> force_rmse(const Vec3Series& est_W, const Vec3Series& gt_W, std::size_t* pairs_out) {
-  const auto pairs = associate_nearest(est_W.t_ns, gt_W.t_ns);
+std::optional<double> force_rmse(const Vec3Series& est, const Vec3Series& gt, std::size_t* pairs_out) {
+  const auto pairs = associate_nearest(est.t_ns, gt.t_ns);
   if (pairs_out != nullptr) *pairs_out = pairs.size();
   if (pairs.empty()) return std::nullopt;
   double sq = 0.0;
-  for (const auto& [ie, ig] : pairs) sq += (est_W.v[ie] - gt_W.v[ig]).squaredNorm();
+  for (const auto& [ie, ig] : pairs) sq += (est.v[ie] - gt.v[ig]).squaredNorm();
   return std::sqrt(sq / static_cast<double>(pairs.size()));
+}
+
+Vec3Series rotate_about_z(const Vec3Series& s, double yaw_rad) {
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  Vec3Series out = s;
+  for (auto& v : out.v) v = R * v;
+  return out;
+}
+
+Vec3Series world_to_body(const Vec3Series& f_W, const std::vector<TimeNs>& t_R,
+                         const std::vector<Eigen::Matrix3d>& R_WI) {
+  Vec3Series out;
+  for (const auto& [i_f, i_R] : associate_nearest(f_W.t_ns, t_R)) {
+    out.t_ns.push_back(f_W.t_ns[i_f]);
+    out.v.push_back(R_WI[i_R].transpose() * f_W.v[i_f]);
+  }
+  return out;
 }
 
 double mass_at(const std::vector<TimeNs>& t_ns, const std::vector<double>& mass_kg, TimeNs t) {

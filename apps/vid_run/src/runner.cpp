@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -161,6 +162,8 @@ void RunSession::on_estimate(const EstimateOutput& e) {
   if (dynamics()) {
     est_f_W_.t_ns.push_back(row.t_ns);
     est_f_W_.v.push_back(e.F_ext_W);
+    est_f_I_.t_ns.push_back(row.t_ns);
+    est_f_I_.v.push_back(e.F_ext_I);
   }
   if (on_estimate_) on_estimate_(e);
 }
@@ -204,6 +207,7 @@ void RunSession::push(const Measurement& m) {
     if (const auto* gt = std::get_if<GroundTruthSample>(&m)) {
       gt_p_.t_ns.push_back(gt->t_ns);
       gt_p_.v.push_back(gt->p_WI);
+      gt_R_WI_.push_back(gt->q_WI.toRotationMatrix());
     } else if (const auto* f = std::get_if<ForceSample>(&m)) {
       gt_f_W_.t_ns.push_back(f->t_ns);
       gt_f_W_.v.push_back(f->f_W_N);  // divided by the mass in summary()
@@ -308,6 +312,7 @@ nlohmann::json RunSession::summary() const {
                  {"imu_samples", c.imu_samples},
                  {"accel_updates", c.accel_updates},
                  {"accel_rejected", c.accel_rejected},
+
                  {"rotor_gap_samples", c.rotor_gap_samples},
                  {"imu_gaps", c.imu_gaps},
                  {"frames_processed", c.frames},
@@ -331,11 +336,11 @@ nlohmann::json RunSession::summary() const {
   s["config_sources"] = cfg_.sources;
 
   // Metrics against ground truth, with the association and alignment of vid_eval.
-  if (!gt_p_.t_ns.empty()) {
-    if (auto ate = ate_posyaw(est_p_, gt_p_)) {
-      s["ate_posyaw_m"] = ate->rmse_m;
-      s["ate_pairs"] = ate->pairs;
-    }
+  std::optional<AteResult> ate;
+  if (!gt_p_.t_ns.empty()) ate = ate_posyaw(est_p_, gt_p_);
+  if (ate) {
+    s["ate_posyaw_m"] = ate->rmse_m;
+    s["ate_pairs"] = ate->pairs;
   }
   const auto& truth_vehicle = calib_.vehicle;
   if (dynamics() && !gt_f_W_.t_ns.empty() && (!mass_t_.empty() || truth_vehicle)) {
@@ -344,10 +349,19 @@ nlohmann::json RunSession::summary() const {
       const double m = mass_t_.empty() ? truth_vehicle->mass_kg : mass_at(mass_t_, mass_kg_, gt_f.t_ns[i]);
       gt_f.v[i] /= m;
     }
+    // The estimator's world has its own heading (yaw is unobservable): the world-frame figure
+    // is taken after rotating the estimate by the ATE's alignment, never without one.
     std::size_t pairs = 0;
-    if (auto rmse = force_rmse(est_f_W_, gt_f, &pairs)) {
+    if (!ate) {
+      s["force_rmse_world_note"] = "no ground-truth poses to align the estimator's world frame: world-frame force not scored";
+    } else if (auto rmse = force_rmse(rotate_about_z(est_f_W_, ate->yaw_rad), gt_f, &pairs)) {
       s["force_rmse_world_mps2"] = *rmse;
       s["force_pairs"] = pairs;
+      s["force_alignment"] = {{"mode", "posyaw"}, {"yaw_deg", ate->yaw_rad * 180.0 / M_PI}};
+    }
+    if (!gt_R_WI_.empty()) {
+      if (auto rmse = force_rmse(est_f_I_, world_to_body(gt_f, gt_p_.t_ns, gt_R_WI_)))
+        s["force_rmse_body_mps2"] = *rmse;
     }
   }
   return s;
@@ -486,7 +500,10 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
                  session.status_message());
   if (s.contains("ate_posyaw_m")) spdlog::info("ATE (posyaw) {:.4f} m", s["ate_posyaw_m"].get<double>());
   if (s.contains("force_rmse_world_mps2"))
-    spdlog::info("force RMSE (world) {:.4f} m/s^2", s["force_rmse_world_mps2"].get<double>());
+    spdlog::info("force RMSE (world, posyaw-aligned: yaw {:.1f} deg) {:.4f} m/s^2",
+                 s["force_alignment"]["yaw_deg"].get<double>(), s["force_rmse_world_mps2"].get<double>());
+  if (s.contains("force_rmse_body_mps2"))
+    spdlog::info("force RMSE (body) {:.4f} m/s^2", s["force_rmse_body_mps2"].get<double>());
   if (interrupted) return RunResult::kInterrupted;
   if (diverged) return RunResult::kDiverged;
   return RunResult::kOk;

@@ -16,6 +16,7 @@ import yaml
 from ..errors import ConfigurationError, InputFormatError
 from ..force_bound import BoundSetup, force_bound, split_by_time_scale
 from ..force_frames import mass_at
+from ..gauge import find_estimate_trajectory, find_gt_trajectory, rotate_world, world_gauge_from_files
 from ..geometry import lerp
 from ..loaders import (find_mass_source, load_force_estimate, load_force_gt, load_mass,
                        load_vehicle_mass)
@@ -42,7 +43,8 @@ def add_parser(sub) -> None:
                    help="RMSE after the first S seconds (default 5, as the estimator tests)")
     p.add_argument("--seed", type=int, default=1, help="noise seed (default 1)")
     p.add_argument("--estimate", metavar="FORCE_CSV", default=None,
-                   help="also split this force.csv's world error into slow (2 s moving "
+                   help="also split this force.csv's world error (after the posyaw alignment of "
+                        "the trajectory next to it, as `vid-eval force`) into slow (2 s moving "
                         "average) and fast parts, for comparison with the bound")
     p.add_argument("--json", metavar="OUT", help="write the results as JSON to OUT")
     p.set_defaults(run=run)
@@ -111,6 +113,10 @@ def run(args: argparse.Namespace) -> int:
     }
     if args.estimate:
         _, est = load_force_estimate(args.estimate)
+        # The estimate's world has its own heading: rotate it into the ground truth's first.
+        gauge = world_gauge_from_files(find_estimate_trajectory(args.estimate),
+                                       find_gt_trajectory(force_path), "posyaw")
+        est = rotate_world(est, gauge)
         keep = (est.t_ns >= gt.t_ns[0] + int(setup.skip_s * 1e9)) & (est.t_ns <= gt.t_ns[-1])
         if keep.sum() < 10:
             raise ConfigurationError(f"{args.estimate}: too few samples inside the ground truth")
@@ -120,6 +126,6 @@ def run(args: argparse.Namespace) -> int:
         print(f"estimate {args.estimate}: RMSE {total:.4f} = slow (2 s average) {slow:.4f} "
               f"+ fast {fast:.4f} (in quadrature, approximately)")
         out["estimate"] = {"path": abspath(args.estimate), "rmse": total, "slow_rmse": slow,
-                           "fast_rmse": fast, "window_s": 2.0}
+                           "fast_rmse": fast, "window_s": 2.0, "alignment": gauge.as_dict()}
     finish(args, out)
     return 0

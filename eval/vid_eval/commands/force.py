@@ -1,4 +1,8 @@
-"""``vid-eval force EST GT``: external-force RMSE per axis and of the norm, JSON and plot."""
+"""``vid-eval force EST GT``: external-force RMSE per axis and of the norm, JSON and plot.
+
+A world-frame comparison first rotates the estimate into the ground truth's world with the
+trajectory alignment (:mod:`vid_eval.gauge`): the estimator's world frame has its own heading.
+"""
 from __future__ import annotations
 
 import argparse
@@ -8,8 +12,12 @@ from typing import Optional, Tuple
 import numpy as np
 
 from ..errors import ConfigurationError, InputFormatError
+from ..alignment import ALIGN_MODES
 from ..force_frames import Mass, mass_at, newton_to_accel, rotate_series
 from ..force_metrics import force_errors
+from ..force_response import force_response
+from ..gauge import (WorldGauge, find_estimate_trajectory, find_gt_trajectory, rotate_world,
+                     world_gauge_from_files)
 from ..loaders import (find_mass_source, load_force_estimate, load_force_gt, load_mass,
                        load_state, load_trajectory, load_vehicle_mass)
 from ..pairing import pair_vectors
@@ -25,7 +33,17 @@ def add_parser(sub) -> None:
     p.add_argument("est", help="our force.csv or state.csv")
     p.add_argument("gt", help="ground-truth force CSV (force0/data.csv: world frame, N)")
     p.add_argument("--frame", choices=("world", "body"), default="world",
-                   help="frame of the comparison (default world)")
+                   help="frame of the comparison (default world: the estimate is rotated into "
+                        "the ground truth's world by the trajectory alignment, see --align)")
+    p.add_argument("--align", choices=ALIGN_MODES, default="posyaw",
+                   help="world frame: alignment of the estimate's trajectory to the ground "
+                        "truth's whose rotation is applied to the force (default posyaw, as "
+                        "`vid-eval traj`; none = the two share one world frame)")
+    p.add_argument("--align-frames", type=int, default=-1, metavar="N",
+                   help="fit the alignment on the first N associated poses (default: all)")
+    p.add_argument("--traj", default=None, metavar="EST_TRAJ",
+                   help="the estimate's trajectory for the alignment (TUM / EuRoC / state.csv; "
+                        "default: --state, else state.csv or trajectory_tum.txt next to EST)")
     p.add_argument("--est-format", choices=("force", "state"), default=None,
                    help="EST is force.csv or state.csv (default: detect by column count)")
     p.add_argument("--mass", type=float, default=None, metavar="KG",
@@ -39,7 +57,8 @@ def add_parser(sub) -> None:
     p.add_argument("--state", default=None, metavar="STATE_CSV",
                    help="our state.csv: estimated q_WI for frame changes and the world 3-sigma band")
     p.add_argument("--gt-state", default=None, metavar="POSES",
-                   help="ground-truth poses (EuRoC CSV / TUM) to rotate GT between frames")
+                   help="ground-truth poses (EuRoC CSV / TUM) for the alignment and to rotate GT "
+                        "between frames (default: mav0/state_groundtruth_estimate0 next to GT)")
     add_pairing_args(p)
     add_output_args(p)
     p.set_defaults(run=run)
@@ -68,20 +87,22 @@ def _resolve_mass(args: argparse.Namespace) -> Tuple[Optional[Mass], str]:
     return load_mass(src), str(src)
 
 
-def _load_estimate(args) -> Tuple[VectorSeries, Optional[VectorSeries], Optional[Trajectory]]:
+def _load_estimate(args) -> Tuple[VectorSeries, Optional[VectorSeries], Optional[Trajectory], str]:
+    """Body series, world series (force.csv only), estimated orientations and the format."""
     fmt = args.est_format or _detect_est_format(args.est)
     orient = load_state(args.state).trajectory() if args.state else None
     if fmt == "state":
         st = load_state(args.est)
-        return st.force_body(), None, orient or st.trajectory()
+        return st.force_body(), None, orient or st.trajectory(), fmt
     body, world = load_force_estimate(args.est)
-    return body, world, orient
+    return body, world, orient, fmt
 
 
 def _estimate_in(frame: str, body: VectorSeries, world: Optional[VectorSeries],
                  orient: Optional[Trajectory]) -> VectorSeries:
-    """The estimate in ``frame``; world values come from force.csv's fw columns when present,
-    the world 3-sigma band from rotating the body sigma with the estimated orientation."""
+    """The estimate in ``frame`` (the estimator's own world); world values come from
+    force.csv's fw columns when present, the world 3-sigma band from rotating the body sigma
+    with the estimated orientation."""
     if frame == "body":
         return body
     if world is None:
@@ -95,9 +116,27 @@ def _estimate_in(frame: str, body: VectorSeries, world: Optional[VectorSeries],
     return VectorSeries(rot.t_ns, world.values[idx], "world", "m/s^2", rot.sigma, world.source)
 
 
+def _gt_poses_path(args) -> Optional[str]:
+    """--gt-state, else the dataset's ground-truth poses next to GT, else None."""
+    if args.gt_state:
+        return args.gt_state
+    found = find_gt_trajectory(args.gt)
+    return None if found is None else str(found)
+
+
+def _world_gauge(args, est_fmt: str) -> WorldGauge:
+    """The alignment of the estimator's world to the ground truth's (``--align``)."""
+    est_traj = args.traj or args.state or (args.est if est_fmt == "state" else None)
+    if est_traj is None:
+        found = find_estimate_trajectory(args.est)
+        est_traj = None if found is None else str(found)
+    return world_gauge_from_files(est_traj, _gt_poses_path(args), args.align, args.align_frames,
+                                  pairing_from_args(args, min_pairs=3))
+
+
 def run(args: argparse.Namespace) -> int:
     """Compute, print, write JSON/plot."""
-    body, world, orient_est = _load_estimate(args)
+    body, world, orient_est, est_fmt = _load_estimate(args)
     gt = load_force_gt(args.gt)
     gt.frame = args.gt_frame
     gt.unit = args.gt_unit
@@ -108,29 +147,51 @@ def run(args: argparse.Namespace) -> int:
                 f"{args.gt}: ground truth is in N but no mass found: give --mass KG "
                 f"(or mav0/mass0/data.csv or vehicle.yaml next to the dataset)")
         gt = newton_to_accel(gt, mass)
+    gauge = _world_gauge(args, est_fmt) if args.frame == "world" else None
     est = _estimate_in(args.frame, body, world, orient_est)
+    if gauge is not None:
+        est = rotate_world(est, gauge)
     if gt.frame != args.frame:
-        orient_gt = load_trajectory(args.gt_state) if args.gt_state else orient_est
-        if orient_gt is None:
-            raise ConfigurationError(
-                f"ground truth is in the {gt.frame} frame: give --gt-state (ground-truth poses) "
-                f"or --state to rotate it into the {args.frame} frame")
-        gt = rotate_series(gt, orient_gt, args.frame)
-    pe, pg = pair_vectors(est, gt, pairing_from_args(args))
+        gt = rotate_series(gt, _gt_orientation(args, orient_est), args.frame)
+    popt = pairing_from_args(args)
+    pe, pg = pair_vectors(est, gt, popt)
     m = None if mass is None else mass_at(mass, pg.t_ns)
     res = force_errors(pe, pg, m)
     out = {"command": "force", "est": abspath(args.est), "gt": abspath(args.gt),
-           "mass_source": mass_src or None, "force": res.as_dict(),
+           "mass_source": mass_src or None, "frame": args.frame, "force": res.as_dict(),
            f"force_rmse_{args.frame}_mps2": res.rmse_norm}
+    if gauge is not None:
+        out["alignment"] = gauge.as_dict()
+    resp = force_response(pe, pg, offset_ns=popt.offset_ns)  # lag, steps, pulses
+    out["response"] = resp.as_dict()
     ax = res.rmse_axis
-    line = (f"pairs {len(res.err)}  frame {args.frame}  RMSE x {ax[0]:.4f} y {ax[1]:.4f} "
+    frame = args.frame if gauge is None else f"world {gauge.describe()}"
+    line = (f"pairs {len(res.err)}  frame {frame}  RMSE x {ax[0]:.4f} y {ax[1]:.4f} "
             f"z {ax[2]:.4f} norm {res.rmse_norm:.4f} m/s^2")
     if m is not None:
         line += f"  norm {out['force']['rmse_N']['norm']:.4f} N"
     print(line)
+    print(resp.summary_line())
     if args.plot:
         from ..plots.force import plot_force
+        from ..plots.force_response import plot_force_response
 
         plot_force(res, args.plot, f"force_{args.frame}.png")
+        plot_force_response(resp, args.plot, f"force_response_{args.frame}.png")
     finish(args, out)
     return 0
+
+
+def _gt_orientation(args, orient_est: Optional[Trajectory]) -> Trajectory:
+    """Orientations ``q_WI`` to rotate GT between frames: the ground-truth poses; the
+    estimate's own orientations only with ``--align none`` (they are in the estimator's world,
+    which is the ground truth's only when the two are known to share one)."""
+    gt_poses = _gt_poses_path(args)
+    if gt_poses is not None:
+        return load_trajectory(gt_poses)
+    if orient_est is not None and args.align == "none":
+        return orient_est
+    raise ConfigurationError(
+        f"ground truth is in the {args.gt_frame} frame: give --gt-state (ground-truth poses) to "
+        f"rotate it into the {args.frame} frame (or --state with --align none when the "
+        f"estimate shares the ground truth's world frame)")

@@ -19,8 +19,9 @@ class VisualOutput {
   virtual ~VisualOutput() = default;
   virtual void on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI,
                          io::DatasetWriter& writer) = 0;
-  /// @brief Write end-of-run files (landmarks.csv) into mav0.
-  virtual void finish(io::DatasetWriter& writer) = 0;
+  /// @brief Write end-of-run files (landmarks.csv, positions rotated by R_GS into the
+  /// ground-truth world) into mav0.
+  virtual void finish(io::DatasetWriter& writer, const Eigen::Matrix3d& R_GS) = 0;
 };
 
 /// @brief Visual output of a scenario, or nullptr when it has no cameras. Throws
@@ -28,16 +29,23 @@ class VisualOutput {
 std::unique_ptr<VisualOutput> make_visual_output(const Scenario& scenario);
 
 /// @brief Writes every stream of a scenario into root/mav0/...
+///
+/// World-frame ground truth (poses, velocities, external force, landmarks) is written in the
+/// ground-truth world G = R_GS * simulation world (Simulator::R_GS, a rotation about gravity
+/// that sets the initial heading); body-frame streams (IMU, rotors, images, features) do not
+/// depend on it.
 class DatasetSink : public SimSink {
  public:
   /// @param visual may be null (no camera data).
+  /// @param R_GS rotation from the simulation world to the written ground-truth world.
   DatasetSink(const std::filesystem::path& root, const Scenario& scenario,
-              std::unique_ptr<VisualOutput> visual);
+              std::unique_ptr<VisualOutput> visual,
+              const Eigen::Matrix3d& R_GS = Eigen::Matrix3d::Identity());
   ~DatasetSink() override;
   void on_imu(const ImuSample& s) override { writer_.write(s); }
   void on_rotor(const RotorSample& s) override { writer_.write(s); }
-  void on_groundtruth(const GroundTruthSample& s) override { writer_.write(s); }
-  void on_force(const ForceSample& s) override { writer_.write(s); }
+  void on_groundtruth(const GroundTruthSample& s) override;
+  void on_force(const ForceSample& s) override;
   void on_mass(const MassSample& s) override { writer_.write(s); }
   void on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI) override;
   /// @brief Write landmarks and close all files.
@@ -47,6 +55,7 @@ class DatasetSink : public SimSink {
  private:
   io::DatasetWriter writer_;
   std::unique_ptr<VisualOutput> visual_;
+  Eigen::Matrix3d R_GS_;
   std::uint64_t frames_ = 0;
   bool finished_ = false;
 };

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,11 @@ struct Scenario {
   ImuConfig imu;
   RotorConfig rotor;
   double groundtruth_rate_hz = 200.0;
+  /// Heading (yaw about gravity) of the vehicle at t = 0 in the written ground-truth world
+  /// [deg]; unset = the trajectory's own. Real recordings start at any heading in their
+  /// motion-capture world while an estimator starts at its own; this makes the two differ.
+  std::optional<double> initial_heading_deg;
+  bool initial_heading_random = false;  ///< draw initial_heading_deg from the seed
   CamerasConfig cameras;
 
   YAML::Node scene_node;     ///< raw `scene:` section (may be null)

@@ -56,12 +56,21 @@ class Simulator {
   /// @brief State at t = 0: on the reference, with attitude, body rate and rotor speeds
   /// that realise the reference acceleration against the initial external force.
   dynamics::QuadrotorState initial_state() const;
+  /// @brief Heading of the vehicle at t = 0 in the written ground-truth world [deg]: the
+  /// scenario's initial_heading_deg (drawn from the seed when random), else the trajectory's.
+  double initial_heading_deg() const { return heading_deg_; }
+  /// @brief R_GS: rotation about z from the simulation world (where trajectory, forces and
+  /// scene live, and in which every SimSink receives its data) to the ground-truth world
+  /// that DatasetSink writes. Identity unless the scenario sets an initial heading.
+  const Eigen::Matrix3d& R_GS() const { return R_GS_; }
 
  private:
   Scenario scenario_;
   std::unique_ptr<dynamics::QuadrotorModel> model_;
   std::unique_ptr<Trajectory> trajectory_;
   std::unique_ptr<SimEnvironment> environment_;
+  double heading_deg_ = 0.0;
+  Eigen::Matrix3d R_GS_ = Eigen::Matrix3d::Identity();
 };
 
 }  // namespace vid::sim

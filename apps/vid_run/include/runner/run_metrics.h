@@ -36,7 +36,18 @@ struct AteResult {
 std::optional<AteResult> ate_posyaw(const Vec3Series& est, const Vec3Series& gt);
 
 /// @brief RMSE of ||f_est - f_gt|| [m/s^2] after nearest association; nullopt without pairs.
-std::optional<double> force_rmse(const Vec3Series& est_W, const Vec3Series& gt_W, std::size_t* pairs = nullptr);
+/// Both series must be in one frame: rotate a world-frame estimate into the ground truth's
+/// world first (rotate_about_z with the ATE's yaw), the estimator's heading is its own.
+std::optional<double> force_rmse(const Vec3Series& est, const Vec3Series& gt, std::size_t* pairs = nullptr);
+
+/// @brief Every vector of a series rotated by yaw_rad about z (the world-frame gauge of an
+/// estimate, as found by ate_posyaw).
+Vec3Series rotate_about_z(const Vec3Series& s, double yaw_rad);
+
+/// @brief Ground-truth world-frame vectors expressed in the body frame, R_WI^T f_W, with the
+/// nearest ground-truth orientation (within 10 ms); samples without one are dropped.
+Vec3Series world_to_body(const Vec3Series& f_W, const std::vector<TimeNs>& t_R,
+                         const std::vector<Eigen::Matrix3d>& R_WI);
 
 /// @brief Mass at time t from a mass series: linear interpolation, held outside its span.
 double mass_at(const std::vector<TimeNs>& t_ns, const std::vector<double>& mass_kg, TimeNs t);

@@ -122,7 +122,8 @@ class RunSession {
   std::optional<RunOutputs> outputs_;
   StageTimes stage_times_;
   std::map<TimeNs, double> tracking_ms_;
-  Vec3Series est_p_, est_f_W_, gt_p_, gt_f_W_;
+  Vec3Series est_p_, est_f_W_, est_f_I_, gt_p_, gt_f_W_;
+  std::vector<Eigen::Matrix3d> gt_R_WI_;  ///< at gt_p_.t_ns, for the body-frame force figure
   std::vector<TimeNs> mass_t_;
   std::vector<double> mass_kg_;
   PipelineCounters past_counters_;  ///< counters of estimators replaced by restart()
