@@ -39,6 +39,8 @@ const DoubleField kDoubles[] = {
     VID_FIELD(imu_gap_s),
     VID_FIELD(imu_gap_noise_scale),
     VID_FIELD(accel_chi2_multiplier),
+    VID_FIELD(force_jump_threshold),
+    VID_FIELD(force_jump_split_sigma),
     VID_FIELD(pixel_noise_px),
     VID_FIELD(chi2_multiplier),
     VID_FIELD(triangulation_max_condition),
@@ -62,11 +64,13 @@ const IntField kInts[] = {
     VID_FIELD(window_size),
     VID_FIELD(min_track_length),
     VID_FIELD(max_features_per_update),
+    VID_FIELD(force_jump_window),
 };
 const BoolField kBools[] = {
     VID_FIELD(use_fej),
     VID_FIELD(accel_update),
     VID_FIELD(accel_chi2_gating),
+    VID_FIELD(force_jump_detection),
     VID_FIELD(visual_update),
     VID_FIELD(use_stereo),
     VID_FIELD(msckf_normal_equations),
@@ -105,6 +109,8 @@ EstimatorParams from_map(const YamlMap& y) {
   if (p.window_size < 2) y.fail("window_size", "must be at least 2, got " + std::to_string(p.window_size));
   if (!(p.gravity > 0.0)) y.fail("gravity", "must be positive");
   if (!(p.imu_rate_hz > 0.0)) y.fail("imu_rate_hz", "must be positive");
+  if (p.force_jump_window < 2) y.fail("force_jump_window", "must be at least 2");
+  if (!(p.force_jump_threshold > 0.0)) y.fail("force_jump_threshold", "must be positive");
   y.check_unknown();
   return p;
 }

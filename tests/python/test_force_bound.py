@@ -137,3 +137,19 @@ def test_cli_without_force_ground_truth_is_one_line_error(tmp_path, capsys):
     assert main(["force-bound", str(tmp_path / "seq")]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "force0" in err[0]
+
+
+def test_jump_oracle_helps_on_steps_and_changes_nothing_on_smooth_forces():
+    """A filter told when the force jumps re-learns the level after each step: far lower error
+    on steps; on a smooth force no sample crosses the threshold, so nothing changes."""
+    t = np.arange(0.0, 30.0, 0.005)
+    steps = np.zeros((t.size, 3))
+    steps[:, 0] = np.where((t // 4.0) % 2 == 1, 3.0, 0.0)  # 3 m/s^2 steps every 4 s
+    setup = BoundSetup(skip_s=5.0)
+    (plain,) = force_bound(t, steps, [0.0005], setup=setup)
+    (oracle,) = force_bound(t, steps, [0.0005], setup=setup, jump_min=0.2)
+    assert oracle.filter_rmse < 0.7 * plain.filter_rmse
+    ts, smooth = _smooth_force(30.0)
+    (a,) = force_bound(ts, smooth, [0.0005], setup=setup)
+    (b,) = force_bound(ts, smooth, [0.0005], setup=setup, jump_min=0.2)
+    assert b.filter_rmse == pytest.approx(a.filter_rmse, rel=1e-12)

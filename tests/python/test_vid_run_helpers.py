@@ -29,13 +29,15 @@ def program(name: str) -> pathlib.Path:
 
 
 def simulate(out: pathlib.Path, scenario: str, duration_s: float, seed: int, features_only: bool,
-             heading: str = "random") -> pathlib.Path:
+             heading: str = "random", noise_free: bool = False) -> pathlib.Path:
     """vid_sim into ``out``. The initial heading in the ground-truth world is drawn from the seed
     by default (real recordings start at any heading; the estimator starts at its own)."""
     cmd = [str(program("vid_sim")), "--scenario", str(REPO / "config" / "sim" / scenario), "--out", str(out),
            "--seed", str(seed), "--duration", str(duration_s), "--initial-heading", heading, "--quiet"]
     if features_only:
         cmd.append("--features-only")
+    if noise_free:
+        cmd.append("--no-noise")
     subprocess.run(cmd, check=True, capture_output=True, text=True, timeout=600)
     return out
 

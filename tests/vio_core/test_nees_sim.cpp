@@ -3,6 +3,8 @@
 // differ), the run-averaged NEES of orientation, position and F_ext (3 dof each) stays inside
 // the two-sided 95% band of the average of 20 chi2(3) for >= 90% of the time after 5 s, in
 // both modes. The initial estimate is drawn from the initial covariance around the truth.
+// The same in dynamics mode on rope_snap (a tether that snaps taut every lap, issue 17): the
+// force-jump handling must keep the covariance honest through the snaps.
 // Writes CSV (plot with tests/vio_core/plot_nees.py).
 #include <gtest/gtest.h>
 
@@ -31,10 +33,10 @@ double fraction_inside(const std::vector<double>& t, const std::vector<double>& 
   return n ? static_cast<double>(inside) / n : 0.0;
 }
 
-void run_mode(PropagationMode mode) {
+void run_mode(PropagationMode mode, const std::string& preset = "vid17_like") {
   NeesSeries avg;
   for (int k = 1; k <= kRuns; ++k) {
-    const auto folder = ensure_sim_dataset("vid17_like", k, kDuration);
+    const auto folder = ensure_sim_dataset(preset, k, kDuration);
     const NeesSeries s = nees_on_dataset(folder, mode, 5000 + k);
     ASSERT_EQ(s.status, "ok") << folder;
     if (avg.t.empty()) {
@@ -57,7 +59,7 @@ void run_mode(PropagationMode mode) {
   const auto [lo, hi] = nees_band(kRuns);
   const std::filesystem::path dir = std::filesystem::path(VID_BINARY_DIR) / "vio_core_nees";
   std::filesystem::create_directories(dir);
-  std::ofstream csv(dir / ("nees_vid17_like_" + to_string(mode) + ".csv"));
+  std::ofstream csv(dir / ("nees_" + preset + "_" + to_string(mode) + ".csv"));
   csv << "# runs=" << kRuns << " band_lo=" << lo << " band_hi=" << hi << "\n";
   csv << "t,nees_theta,nees_p,nees_F\n";
   for (std::size_t i = 0; i < avg.t.size(); ++i) {
@@ -65,7 +67,7 @@ void run_mode(PropagationMode mode) {
   }
   const double th = fraction_inside(avg.t, avg.theta, lo, hi);
   const double p = fraction_inside(avg.t, avg.p, lo, hi);
-  std::printf("vid17_like %s: %d runs x %.0f s, band [%.2f, %.2f]; inside: theta %.3f, p %.3f",
+  std::printf("%s %s: %d runs x %.0f s, band [%.2f, %.2f]; inside: theta %.3f, p %.3f", preset.c_str(),
               to_string(mode).c_str(), kRuns, kDuration, lo, hi, th, p);
   EXPECT_GE(th, 0.9);
   EXPECT_GE(p, 0.9);
@@ -79,5 +81,10 @@ void run_mode(PropagationMode mode) {
 
 TEST(NeesSim, Vid17LikeDynamicsMode) { run_mode(PropagationMode::kDynamics); }
 TEST(NeesSim, Vid17LikeImuMode) { run_mode(PropagationMode::kImu); }
+// Issue 17 acceptance, not met (measured 2026-11-25: inside the band theta 0.60, p 0.27, F 0.66
+// of the time): between a snap and its detection (10-60 ms) and along the tether's fast ramps
+// (up to 15 m/s^3) the force model is wrong and the filter is overconfident in attitude and
+// position. Kept with the issue's threshold; run with --gtest_also_run_disabled_tests.
+TEST(NeesSim, DISABLED_RopeSnapDynamicsMode) { run_mode(PropagationMode::kDynamics, "rope_snap"); }
 
 }  // namespace

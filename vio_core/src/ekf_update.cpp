@@ -105,7 +105,7 @@ AccelJacobian accel_jacobian(const ImuState& x, const Eigen::Quaterniond& q_WI_l
 }
 
 UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
-                          double noise_var, double chi2_threshold) {
+                          double noise_var, double chi2_threshold, AccelInnovation* info) {
   if (!state.with_force()) throw std::logic_error("accel_update needs the F_ext state (dynamics mode)");
   UpdateResult res;
   Eigen::MatrixXd& P = state.P();
@@ -132,12 +132,27 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   if (llt.info() != Eigen::Success) return res;
   res.chi2 = r.dot(llt.solve(r));
   res.threshold = chi2_threshold;
-  if (chi2_threshold > 0.0 && !(res.chi2 <= chi2_threshold)) return res;
+  const bool gated = chi2_threshold > 0.0 && !(res.chi2 <= chi2_threshold);
+  if (info != nullptr) {
+    const bool world = state.force_frame() == ForceFrame::kWorld;
+    const Eigen::Matrix3d R = world ? state.imu().q_WI.toRotationMatrix() : Eigen::Matrix3d::Identity();
+    info->t_ns = state.time();
+    info->w = R * r;
+    info->S = R * S * R.transpose();
+    info->y = R * (a_m - T_m);
+    info->R_WI = R;
+    info->dx_imu.setZero();
+    info->gated = gated;
+  }
+  if (gated) return res;
   // With S = L L^T and W = PHt L^-T: K r = W (L^-1 r), K S K^T = W W^T (rank-3, symmetric).
   thread_local Eigen::MatrixXd W;
+  thread_local Eigen::VectorXd dx;
   W = llt.matrixL().solve(PHt.transpose()).transpose();
   const Eigen::Vector3d Linv_r = llt.matrixL().solve(r);
-  state.apply_correction(W * Linv_r);
+  dx.noalias() = W * Linv_r;
+  state.apply_correction(dx);
+  if (info != nullptr) info->dx_imu.head(state.imu_dim()) = dx.head(state.imu_dim());
   // P -= W W^T one contiguous column at a time: a single fused, vectorized pass per column
   // (no product-kernel call per column, no cache-unfriendly mirror pass of a triangular
   // update); P stays symmetric to round-off.

@@ -44,7 +44,8 @@ Pipeline::Pipeline(PipelineConfig config)
              config_.params.force_rate_random_walk > 0.0),
       initializer_(config_.params),
       thrust_(seconds_to_ns(config_.params.rotor_gap_s)),
-      features_(std::make_unique<msckf::FeatureDatabase>()) {
+      features_(std::make_unique<msckf::FeatureDatabase>()),
+      jumps_(config_.params) {
   if (config_.params.mode == PropagationMode::kDynamics && !(config_.vehicle.mass_kg > 0.0)) {
     throw std::invalid_argument("dynamics mode needs vehicle mass_kg > 0");
   }
@@ -77,7 +78,56 @@ void Pipeline::push(const Measurement& m) {
   drain(false);
 }
 
-void Pipeline::finish() { drain(true); }
+void Pipeline::finish() {
+  drain(true);
+  // Samples still in the jump detector's window: a gated one was never used.
+  for (int i = jumps_.size() - 1; i >= 0; --i)
+    if (jumps_.recent(i).gated) record_rejected(jumps_.recent(i).t_ns);
+  jumps_.clear();
+}
+
+void Pipeline::record_rejected(TimeNs t) {
+  ++counters_.accel_rejected;
+  auto& spans = counters_.accel_rejected_spans;
+  constexpr TimeNs kJoinNs = 50'000'000;
+  if (!spans.empty() && t - spans.back().last_ns <= kJoinNs) {
+    spans.back().last_ns = t;
+  } else {
+    spans.push_back(TimeSpan{t, t});
+  }
+}
+
+void Pipeline::accel_step(const ImuInput& in) {
+  const EstimatorParams& p = config_.params;
+  const double noise_var = p.accel_noise_density * p.accel_noise_density * p.imu_rate_hz;
+  const double thr = p.accel_chi2_gating ? p.accel_chi2_multiplier * chi2_quantile(3, 0.99) : 0.0;
+  if (!p.force_jump_detection) {
+    if (accel_update(state_, in.accel, in.T_m, noise_var, thr).applied) {
+      ++counters_.accel_updates;
+    } else {
+      record_rejected(in.t);
+    }
+    return;
+  }
+  AccelInnovation info;
+  if (accel_update(state_, in.accel, in.T_m, noise_var, thr, &info).applied) ++counters_.accel_updates;
+  // A gated sample stays in the detector's window: rejected only if no jump uses it.
+  if (auto old = jumps_.push(info); old && old->gated) record_rejected(old->t_ns);
+  const std::optional<ForceJump> jump = jumps_.test();
+  if (!jump) return;
+  std::vector<AccelInnovation> window;
+  for (int i = 0; i < jump->n; ++i) {
+    window.push_back(jumps_.recent(i));
+    if (window.back().gated) ++counters_.accel_used_in_jumps;
+  }
+  for (int i = jump->n; i < jumps_.size(); ++i)
+    if (jumps_.recent(i).gated) record_rejected(jumps_.recent(i).t_ns);
+  jumps_.clear();
+  apply_force_jump(state_, window, *jump, noise_var, p.init_sigma_force_rate);
+  ++counters_.force_jumps;
+  if (counters_.force_jump_events.size() < 10000)
+    counters_.force_jump_events.push_back(ForceJumpRecord{jump->t_ns, jump->n, jump->delta.norm()});
+}
 
 void Pipeline::drain(bool force) {
   const bool dyn = config_.params.mode == PropagationMode::kDynamics;
@@ -105,6 +155,7 @@ void Pipeline::drain(bool force) {
 
 void Pipeline::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu) {
   state_.initialize(t_ns, x, P_imu);
+  jumps_.clear();
   last_input_.reset();
   features_ = std::make_unique<msckf::FeatureDatabase>();
   status_ = FilterStatus::kOk;
@@ -180,14 +231,7 @@ void Pipeline::process_imu(const ImuInput& in) {
 
   if (p.mode == PropagationMode::kDynamics && p.accel_update) {
     const auto t0 = Clock::now();
-    const double noise_var = p.accel_noise_density * p.accel_noise_density * p.imu_rate_hz;
-    const double thr = p.accel_chi2_gating ? p.accel_chi2_multiplier * chi2_quantile(3, 0.99) : 0.0;
-    const UpdateResult res = accel_update(state_, in.accel, in.T_m, noise_var, thr);
-    if (res.applied) {
-      ++counters_.accel_updates;
-    } else {
-      ++counters_.accel_rejected;
-    }
+    accel_step(in);
     pending_timings_.accel_update_ms += ms_since(t0);
   }
   check_divergence(false);

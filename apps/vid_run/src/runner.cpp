@@ -71,6 +71,11 @@ void add_counters(PipelineCounters& a, const PipelineCounters& b) {
   a.imu_samples += b.imu_samples;
   a.accel_updates += b.accel_updates;
   a.accel_rejected += b.accel_rejected;
+  a.accel_used_in_jumps += b.accel_used_in_jumps;
+  a.force_jumps += b.force_jumps;
+  a.accel_rejected_spans.insert(a.accel_rejected_spans.end(), b.accel_rejected_spans.begin(),
+                                b.accel_rejected_spans.end());
+  a.force_jump_events.insert(a.force_jump_events.end(), b.force_jump_events.begin(), b.force_jump_events.end());
   a.rotor_gap_samples += b.rotor_gap_samples;
   a.imu_gaps += b.imu_gaps;
   a.frames += b.frames;
@@ -81,6 +86,34 @@ void add_counters(PipelineCounters& a, const PipelineCounters& b) {
   a.features_rejected_chi2 += b.features_rejected_chi2;
   a.features_too_short += b.features_too_short;
   a.observations_without_norm += b.observations_without_norm;
+}
+
+/// @brief What happened to the accelerometer samples: rejected count, fraction and time spans,
+/// and the force jumps (summary.json "accel"). Spans and jumps list at most 200 entries each.
+nlohmann::json accel_report(const PipelineCounters& c) {
+  nlohmann::json j;
+  const long seen = c.accel_updates + c.accel_rejected + c.accel_used_in_jumps;
+  j["samples"] = seen;
+  j["rejected"] = c.accel_rejected;
+  j["rejected_fraction"] = seen > 0 ? static_cast<double>(c.accel_rejected) / static_cast<double>(seen) : 0.0;
+  j["used_in_jumps"] = c.accel_used_in_jumps;
+  j["force_jumps"] = c.force_jumps;
+  double span_s = 0.0;
+  nlohmann::json spans = nlohmann::json::array();
+  for (const TimeSpan& s : c.accel_rejected_spans) {
+    span_s += static_cast<double>(s.last_ns - s.first_ns) * 1e-9;
+    if (spans.size() < 200) spans.push_back({s.first_ns, s.last_ns});
+  }
+  j["rejected_spans_ns"] = spans;
+  j["rejected_span_count"] = c.accel_rejected_spans.size();
+  j["rejected_span_total_s"] = span_s;
+  nlohmann::json jumps = nlohmann::json::array();
+  for (const ForceJumpRecord& r : c.force_jump_events) {
+    if (jumps.size() >= 200) break;
+    jumps.push_back({{"t_ns", r.t_ns}, {"window", r.window}, {"size_mps2", r.size_mps2}});
+  }
+  j["force_jump_events"] = jumps;
+  return j;
 }
 
 }  // namespace
@@ -312,7 +345,8 @@ nlohmann::json RunSession::summary() const {
                  {"imu_samples", c.imu_samples},
                  {"accel_updates", c.accel_updates},
                  {"accel_rejected", c.accel_rejected},
-
+                 {"accel_used_in_jumps", c.accel_used_in_jumps},
+                 {"force_jumps", c.force_jumps},
                  {"rotor_gap_samples", c.rotor_gap_samples},
                  {"imu_gaps", c.imu_gaps},
                  {"frames_processed", c.frames},
@@ -321,6 +355,7 @@ nlohmann::json RunSession::summary() const {
                  {"features_used", c.features_used},
                  {"features_rejected", c.features_rejected}};
   if (restarts_ > 0) s["counts"]["estimator_restarts"] = restarts_;
+  s["accel"] = accel_report(c);
   s["timing"] = stage_times_.to_json();  // frontend + estimator stages; excludes image decoding
   s["timing"]["image_decoding"] = stage_stats(decode_ms_);
   s["peak_memory_mib"] = peak_memory_mib();

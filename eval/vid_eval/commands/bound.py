@@ -42,6 +42,9 @@ def add_parser(sub) -> None:
     p.add_argument("--skip", type=float, default=5.0, metavar="S",
                    help="RMSE after the first S seconds (default 5, as the estimator tests)")
     p.add_argument("--seed", type=int, default=1, help="noise seed (default 1)")
+    p.add_argument("--jump-oracle", type=float, default=0.0, metavar="MPS2",
+                   help="tell the filter when the true force changes by more than MPS2 between "
+                        "two IMU samples (a perfect jump detector; 0 = off, e.g. 0.2)")
     p.add_argument("--estimate", metavar="FORCE_CSV", default=None,
                    help="also split this force.csv's world error (after the posyaw alignment of "
                         "the trajectory next to it, as `vid-eval force`) into slow (2 s moving "
@@ -93,11 +96,14 @@ def run(args: argparse.Namespace) -> int:
         accel_noise_density=pick(args.accel_noise_density, mav0 / "imu0" / "sensor.yaml",
                                  "accelerometer_noise_density", 0.1),
         skip_s=args.skip, seed=args.seed)
+    if args.jump_oracle < 0:
+        raise ConfigurationError(f"--jump-oracle must be >= 0, got {args.jump_oracle}")
     results = force_bound(gt.t_ns * 1e-9, force, [s * 1e-3 for s in args.sigma_p_mm],
-                          setup=setup)
+                          setup=setup, jump_min=args.jump_oracle)
+    oracle = f", jump oracle at {args.jump_oracle:g} m/s^2 per sample" if args.jump_oracle > 0 else ""
     print(f"force bound of {args.dataset}: accelerometer {setup.accel_noise_density} "
-          f"m/s^2/sqrt(Hz) at {setup.imu_rate_hz:g} Hz, camera {setup.camera_rate_hz:g} Hz, "
-          f"RMSE of |F_err| after {setup.skip_s:g} s [m/s^2]")
+          f"m/s^2/sqrt(Hz) at {setup.imu_rate_hz:g} Hz, camera {setup.camera_rate_hz:g} Hz"
+          f"{oracle}, RMSE of |F_err| after {setup.skip_s:g} s [m/s^2]")
     print(f"{'sigma_p [mm]':>12} {'best q':>7} {'filter':>8} {'smoother':>9}")
     for r in results:
         print(f"{r.sigma_p_m * 1e3:12.2f} {r.q:7.2f} {r.filter_rmse:8.4f} {r.smoother_rmse:9.4f}")
@@ -107,6 +113,7 @@ def run(args: argparse.Namespace) -> int:
         "imu_rate_hz": setup.imu_rate_hz,
         "camera_rate_hz": setup.camera_rate_hz,
         "skip_s": setup.skip_s,
+        "jump_oracle_mps2": args.jump_oracle,
         "results": [{"sigma_p_m": r.sigma_p_m, "q": r.q, "filter_rmse": r.filter_rmse,
                      "filter_rmse_axes": list(r.filter_rmse_axes),
                      "smoother_rmse": r.smoother_rmse} for r in results],

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "vio_core/force_jump.h"
 #include "vio_core/state.h"
 
 namespace vid {
@@ -47,8 +48,10 @@ AccelJacobian accel_jacobian(const ImuState& x, const Eigen::Quaterniond& q_WI_l
 /// @brief Accelerometer update (dynamics mode) with isotropic discrete noise variance
 /// noise_var [(m/s^2)^2]. O(n^2): H touches only the b_a and F_ext columns (and the
 /// orientation columns in the world-frame force model), so P H^T is a few n x 3 blocks.
+/// @param info if given: the innovation, its covariance and the measurement in the force
+/// frame, and the IMU-block correction applied (for ForceJumpDetector / apply_force_jump).
 UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
-                          double noise_var, double chi2_threshold);
+                          double noise_var, double chi2_threshold, AccelInnovation* info = nullptr);
 
 /// @brief 0.95 / 0.99 quantiles of chi2 with dof degrees of freedom (Wilson-Hilferty for
 /// large dof, table for dof <= 10).

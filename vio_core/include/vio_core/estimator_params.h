@@ -76,6 +76,12 @@ struct EstimatorParams {
   bool accel_update = true;              ///< update with every accelerometer sample
   bool accel_chi2_gating = true;
   double accel_chi2_multiplier = 1.0;    ///< multiplies the 99% chi2(3) threshold
+  // Abrupt forces (vio_core/force_jump.h): GLR step test on the accelerometer innovations over
+  // the last 2 .. force_jump_window samples; a detection re-estimates F from them.
+  bool force_jump_detection = true;
+  double force_jump_threshold = 30.0;    ///< GLR statistic (chi2(3); P(> 30) ~ 1.4e-6 per test)
+  double force_jump_split_sigma = 2.0;   ///< each half of the window carries the step at >= this [sigma]
+  int force_jump_window = 64;            ///< longest window [samples] (160 ms at 400 Hz)
 
   // --- visual update ---
   bool visual_update = true;

@@ -27,6 +27,7 @@
 
 #include "vio_core/calibration.h"
 #include "vio_core/estimator_params.h"
+#include "vio_core/force_jump.h"
 #include "vio_core/initializer.h"
 #include "vio_core/measurements.h"
 #include "vio_core/state.h"
@@ -76,11 +77,30 @@ struct FrameTimings {
   int clones = 0;
 };
 
+/// @brief A time span [first, last] of consecutive events.
+struct TimeSpan {
+  TimeNs first_ns = 0;
+  TimeNs last_ns = 0;
+};
+
+/// @brief A force step found by the detector (force_jump.h).
+struct ForceJumpRecord {
+  TimeNs t_ns = 0;        ///< newest sample of the window
+  int window = 0;         ///< samples it was estimated from
+  double size_mps2 = 0.0; ///< |mean innovation| of the window
+};
+
 /// @brief Event counters.
 struct PipelineCounters {
   long imu_samples = 0;
-  long accel_updates = 0;
+  long accel_updates = 0;     ///< accelerometer samples applied one by one
+  /// Samples the chi2 gate held back and no force jump used: final once a sample has left
+  /// the detector's window (force_jump_window samples later) or at finish().
   long accel_rejected = 0;
+  long accel_used_in_jumps = 0;  ///< held back by the gate, then used in a jump's estimate
+  long force_jumps = 0;
+  std::vector<TimeSpan> accel_rejected_spans;  ///< rejected samples less than 50 ms apart joined
+  std::vector<ForceJumpRecord> force_jump_events;
   long rotor_gap_samples = 0;  ///< IMU samples propagated with held thrust
   long imu_gaps = 0;
   long frames = 0;
@@ -133,6 +153,8 @@ class Pipeline {
   void process_frame(const FeatureFrame& f);
   void check_divergence(bool full);
   void emit(TimeNs t);
+  void accel_step(const ImuInput& in);
+  void record_rejected(TimeNs t);
   ImuInput interpolate(const ImuInput& a, const ImuInput& b, TimeNs t) const;
 
   PipelineConfig config_;
@@ -150,6 +172,7 @@ class Pipeline {
   std::string status_message_ = "waiting for initialization";
   PipelineCounters counters_;
   FrameTimings pending_timings_;
+  ForceJumpDetector jumps_;
   std::function<void(const EstimateOutput&)> on_estimate_;
   std::function<void(const FrameTimings&)> on_frame_;
 };

@@ -1,0 +1,125 @@
+"""Issue 17: abrupt external forces (tether snaps, impacts, steps, a recorded force file) are
+followed without rejecting the accelerometer, under the one set of defaults (config/sim).
+
+Each preset runs with the force-jump detection (the default) and without it (the estimator
+before issue 17), feature level, fixed seed, random initial heading. Thresholds are the issue's
+acceptance values; those the estimator does not reach (force RMSE on rope_snap and impacts,
+settling after steps) are strict xfails with the measured numbers and the reason
+(README "Abrupt external forces").
+"""
+import json
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from test_vid_run_helpers import REPO, VENV_BIN, simulate, summary, vid_run
+from vid_eval.ate import compute_ate
+from vid_eval.loaders import load_trajectory
+
+ABRUPT = ["rope_snap_short", "impacts_short", "force_steps_short"]
+
+
+@pytest.fixture(scope="module")
+def configs(tmp_path_factory):
+    """config/sim as it is, and a copy with the force-jump detection off."""
+    base = tmp_path_factory.mktemp("cfg")
+    off = base / "jump_off"
+    shutil.copytree(REPO / "config" / "sim", off)
+    with open(off / "estimator.yaml", "a") as fh:
+        fh.write("\nforce_jump_detection: false\n")
+    return {"on": REPO / "config" / "sim", "off": off}
+
+
+_RUNS = {}
+
+
+def run_preset(configs, tmp_path_factory, preset, duration=None, noise_free=False, which="on"):
+    """vid_sim (features, seed 1) once per preset, vid_run once per configuration; scores."""
+    key = (preset, duration, noise_free, which)
+    if key not in _RUNS:
+        base = tmp_path_factory.getbasetemp() / "abrupt"
+        seq = base / f"{preset}_{duration}_{noise_free}"
+        if not (seq / "mav0" / "imu0" / "data.csv").exists():
+            scenario = REPO / "config" / "sim" / f"{preset}.yaml"
+            dur = duration or float(scenario.read_text().split("duration_s:")[1].split()[0])
+            simulate(seq, f"{preset}.yaml", dur, 1, True, noise_free=noise_free)
+        out = base / f"run_{preset}_{duration}_{noise_free}_{which}"
+        r = vid_run(seq, out, "--config", str(configs[which]))
+        assert r.returncode == 0, r.stderr
+        js = out / "force_eval.json"
+        subprocess.run([str(VENV_BIN / "vid-eval"), "force", str(out / "force.csv"),
+                        str(seq / "mav0" / "force0" / "data.csv"), "--json", str(js)],
+                       check=True, capture_output=True, timeout=120)
+        ate = compute_ate(load_trajectory(out / "trajectory_tum.txt"),
+                          load_trajectory(seq / "mav0" / "state_groundtruth_estimate0" / "data.csv"))
+        t = (ate.est_aligned.t_ns - ate.gt.t_ns[0]) * 1e-9
+        _RUNS[key] = {"summary": summary(out), "force": json.loads(js.read_text()),
+                      "att_err_max_deg": float(np.max(ate.rot_err_deg[t > 5.0]))}
+    return _RUNS[key]
+
+
+@pytest.mark.parametrize("preset", ABRUPT)
+def test_abrupt_forces_are_followed(configs, tmp_path_factory, preset):
+    on = run_preset(configs, tmp_path_factory, preset)
+    off = run_preset(configs, tmp_path_factory, preset, which="off")
+    s = on["summary"]
+    assert s["status"] == "ok"
+    assert s["accel"]["force_jumps"] >= 3, "the snaps / impacts / steps are detected"
+    # Issue acceptance met: pose, attitude and lag.
+    assert s["ate_posyaw_m"] <= 0.02, f"ATE {s['ate_posyaw_m']:.4f} m"
+    assert on["att_err_max_deg"] <= 1.5, f"attitude error {on['att_err_max_deg']:.2f} deg after 5 s"
+    lag_ms = on["force"]["response"]["lag_ms"]["combined"]
+    assert lag_ms is not None and lag_ms <= 50.0, f"lag {lag_ms} ms"
+    # And against the estimator without the detection: every figure better.
+    assert s["force_rmse_world_mps2"] < 0.85 * off["summary"]["force_rmse_world_mps2"]
+    assert s["ate_posyaw_m"] < off["summary"]["ate_posyaw_m"]
+    assert s["accel"]["rejected"] < off["summary"]["accel"]["rejected"]
+
+
+@pytest.mark.parametrize("preset", ["rope_snap_short", "impacts_short"])
+@pytest.mark.xfail(strict=True, reason="open (issue 17): force RMSE 0.47 (rope_snap_short) / 0.97 (impacts_short) "
+                   "m/s^2 > 0.25; a causal filter told the exact jump times does 0.42 / 0.38 on the full "
+                   "presets (vid-eval force-bound --jump-oracle 0.2): README 'Abrupt external forces'")
+def test_abrupt_force_rmse_target(configs, tmp_path_factory, preset):
+    s = run_preset(configs, tmp_path_factory, preset)["summary"]
+    assert s["force_rmse_world_mps2"] <= 0.25
+
+
+@pytest.mark.xfail(strict=True, reason="open (issue 17): settling after 2.6-3.2 m/s^2 steps takes up to 0.64 s "
+                   "> 0.3 s; 400 samples of 2 m/s^2 noise are needed to pin a level to 0.1 m/s^2")
+def test_settling_after_steps(configs, tmp_path_factory):
+    resp = run_preset(configs, tmp_path_factory, "force_steps_short")["force"]["response"]
+    assert resp["summary"]["steps"] >= 3
+    assert resp["summary"]["settling_max_s"] <= 0.3
+
+
+def test_recorded_force_file_meets_the_targets(configs, tmp_path_factory):
+    """from_file (120 s): a 20 N step and a 0.3 s 15 N pulse replayed from a CSV."""
+    run = run_preset(configs, tmp_path_factory, "from_file")
+    s, resp = run["summary"], run["force"]["response"]
+    assert s["force_rmse_world_mps2"] <= 0.25, f"force RMSE {s['force_rmse_world_mps2']:.3f}"
+    assert s["ate_posyaw_m"] <= 0.025, f"ATE {s['ate_posyaw_m']:.4f} m"
+    assert run["att_err_max_deg"] <= 1.5
+    assert resp["lag_ms"]["combined"] <= 50.0
+    assert resp["summary"]["steps"] >= 2 and resp["summary"]["not_settled"] == 0
+    assert resp["summary"]["settling_max_s"] <= 0.3
+
+
+@pytest.mark.parametrize("preset", ABRUPT + ["from_file_short"])
+def test_noise_free_copies_reject_almost_nothing(configs, tmp_path_factory, preset):
+    s = run_preset(configs, tmp_path_factory, preset, noise_free=True)["summary"]
+    acc = s["accel"]
+    assert acc["samples"] > 0.9 * 400 * 20
+    assert acc["rejected_fraction"] <= 0.001, f"{acc['rejected']} of {acc['samples']} rejected"
+    assert len(acc["rejected_spans_ns"]) == min(acc["rejected_span_count"], 200)
+
+
+@pytest.mark.parametrize("preset", ["vid17_like_short", "wind_gusts"])
+def test_smooth_presets_unchanged(configs, tmp_path_factory, preset):
+    """One set of defaults: on smooth forces the detection changes (almost) nothing."""
+    on = run_preset(configs, tmp_path_factory, preset, duration=25.0)["summary"]
+    off = run_preset(configs, tmp_path_factory, preset, duration=25.0, which="off")["summary"]
+    assert on["force_rmse_world_mps2"] <= 1.05 * off["force_rmse_world_mps2"]
+    assert on["ate_posyaw_m"] <= 1.05 * off["ate_posyaw_m"]

@@ -1,0 +1,159 @@
+/// Force-jump detection (vio_core/force_jump.h): the GLR test against white innovations, steps
+/// and spikes, and apply_force_jump's undo, re-estimate and velocity/position catch-up.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "vio_core/ekf_update.h"
+#include "vio_core/force_jump.h"
+#include "vio_core/so3.h"
+
+namespace vid {
+namespace {
+
+constexpr double kSigma = 2.0;  // per-sample accelerometer noise of the VID IMU (0.1 * sqrt(400))
+
+AccelInnovation innovation(TimeNs t, const Eigen::Vector3d& w) {
+  AccelInnovation s;
+  s.t_ns = t;
+  s.w = w;
+  s.S = kSigma * kSigma * Eigen::Matrix3d::Identity();
+  return s;
+}
+
+struct Noise {
+  std::mt19937 rng;
+  std::normal_distribution<double> nd{0.0, kSigma};
+  explicit Noise(unsigned seed) : rng(seed) {}
+  Eigen::Vector3d operator()() { return {nd(rng), nd(rng), nd(rng)}; }
+};
+
+// White innovations of a consistent filter: the threshold (chi2(3) at 30, ~1.4e-6 per test)
+// keeps false alarms rare although every sample tests up to 63 correlated windows.
+TEST(ForceJumpDetector, RareFalseAlarmsOnWhiteInnovations) {
+  EstimatorParams p;
+  ForceJumpDetector det(p);
+  Noise noise(7);
+  int alarms = 0;
+  const int samples = 200000;  // 500 s at 400 Hz
+  for (int k = 0; k < samples; ++k) {
+    det.push(innovation(k * 2'500'000LL, noise()));
+    if (det.test()) {
+      ++alarms;
+      det.clear();
+    }
+  }
+  EXPECT_LE(alarms, 10) << "false alarms per 500 s of white innovations";
+}
+
+// A step of 3 m/s^2 (1.5 sigma per sample) is found within the longest window, mostly at an
+// onset near the true one (the maximum-likelihood onset spreads with the noise), with the mean
+// innovation of its window (the step, diluted by pre-step samples when the onset is early).
+TEST(ForceJumpDetector, FindsAStepQuicklyWithItsSizeAndOnset) {
+  EstimatorParams p;
+  const Eigen::Vector3d step(3.0, 0.0, -0.5);
+  int found = 0, onset_close = 0;
+  double delay_sum = 0.0;
+  for (unsigned seed = 1; seed <= 50; ++seed) {
+    ForceJumpDetector det(p);
+    Noise noise(seed);
+    for (int k = 0; k < 40; ++k) det.push(innovation(k, noise()));
+    for (int k = 0; k < 64; ++k) {
+      det.push(innovation(40 + k, step + noise()));
+      if (auto j = det.test()) {
+        ++found;
+        delay_sum += k + 1;
+        onset_close += std::abs(j->n - (k + 1)) <= 8 ? 1 : 0;
+        const Eigen::Vector3d expected = step * (std::min(j->n, k + 1) / static_cast<double>(j->n));
+        EXPECT_LT((j->delta - expected).norm(), 4.0 * kSigma * std::sqrt(3.0 / j->n)) << "seed " << seed;
+        break;
+      }
+    }
+  }
+  EXPECT_EQ(found, 50);
+  EXPECT_GE(onset_close, 40) << "onsets within 8 samples of the truth";
+  EXPECT_LT(delay_sum / found, 25.0) << "mean detection delay [samples]";  // theory: ~30 / (9.25 / 4) = 13
+}
+
+// One sample of 30 m/s^2 (an outlier, not a step): each half of a window must carry the step.
+TEST(ForceJumpDetector, ASingleSpikeIsNotAStep) {
+  EstimatorParams p;
+  int detected = 0;
+  for (unsigned seed = 1; seed <= 200; ++seed) {
+    ForceJumpDetector det(p);
+    Noise noise(seed);
+    bool hit = false;
+    for (int k = 0; k < 100; ++k) {
+      const Eigen::Vector3d spike = k == 50 ? Eigen::Vector3d(30.0, 0.0, 0.0) : Eigen::Vector3d::Zero();
+      det.push(innovation(k, spike + noise()));
+      hit = hit || det.test().has_value();
+    }
+    detected += hit ? 1 : 0;
+  }
+  EXPECT_LE(detected, 10) << "of 200 spikes taken for steps";  // ~2.3 % pass the 2-sigma split test
+}
+
+TEST(ForceJumpDetector, WindowIsBounded) {
+  EstimatorParams p;
+  p.force_jump_window = 8;
+  ForceJumpDetector det(p);
+  for (int k = 0; k < 8; ++k) EXPECT_FALSE(det.push(innovation(k, Eigen::Vector3d::Zero())).has_value());
+  const auto out = det.push(innovation(8, Eigen::Vector3d::Zero()));
+  ASSERT_TRUE(out.has_value());
+  EXPECT_EQ(out->t_ns, 0);
+  EXPECT_EQ(det.size(), 8);
+}
+
+// A world-force filter whose force jumped by dF: feed the accelerometer as the pipeline does,
+// then apply the detected jump. The force reaches the new level, the window's corrections of
+// attitude and bias are undone, and velocity/position catch up with the step they missed.
+TEST(ApplyForceJump, ReEstimatesTheForceAndKeepsAttitudeAndBias) {
+  FilterState state(true, ForceFrame::kWorld, true);
+  ImuState x;
+  x.q_WI = so3::quat_exp(Eigen::Vector3d(0.05, -0.03, 0.8));
+  x.b_a = Eigen::Vector3d(0.05, -0.02, 0.03);
+  x.F_ext = Eigen::Vector3d(0.5, 0.0, 0.0);
+  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(state.imu_dim(), state.imu_dim()) * 1e-4;
+  P.block<3, 3>(imu_idx::kTheta, imu_idx::kTheta) *= 0.25;
+  P.block<3, 3>(imu_idx::kBa, imu_idx::kBa) = 0.0064 * Eigen::Matrix3d::Identity();
+  P.block<3, 3>(imu_idx::kF, imu_idx::kF) = 0.01 * Eigen::Matrix3d::Identity();
+  state.initialize(0, x, P);
+  const ImuState before = state.imu();
+
+  EstimatorParams p;
+  ForceJumpDetector det(p);
+  const Eigen::Vector3d F_true = x.F_ext + Eigen::Vector3d(0.0, 4.0, -2.0);  // W
+  const Eigen::Matrix3d R = x.q_WI.toRotationMatrix();
+  const Eigen::Vector3d T_m(0.0, 0.0, 9.81);
+  const double noise_var = kSigma * kSigma;
+  Noise noise(3);
+  std::optional<ForceJump> jump;
+  TimeNs t = 0;
+  while (!jump) {
+    t += 2'500'000;
+    state.set_time(t);
+    AccelInnovation info;
+    const Eigen::Vector3d a_m = T_m + R.transpose() * F_true + x.b_a + 0.0 * noise();
+    accel_update(state, a_m, T_m, noise_var, 0.0, &info);
+    det.push(info);
+    jump = det.test();
+    ASSERT_LT(t, 200'000'000) << "no detection";
+  }
+  std::vector<AccelInnovation> window;
+  for (int i = 0; i < jump->n; ++i) window.push_back(det.recent(i));
+  const Eigen::Vector3d v_before = state.imu().v_WI;
+  apply_force_jump(state, window, *jump, noise_var, p.init_sigma_force_rate);
+  const ImuState& after = state.imu();
+  EXPECT_LT((after.F_ext - F_true).norm(), 0.05) << after.F_ext.transpose();
+  EXPECT_LT((after.b_a - before.b_a).norm(), 0.01) << "bias kept";
+  EXPECT_LT(so3::quat_log(before.q_WI.conjugate() * after.q_WI).norm(), 1e-3) << "attitude kept";
+  // velocity: the step acted for the window's duration (plus half a sample)
+  const double tau = static_cast<double>(t - window.back().t_ns) * 1e-9 + 1.25e-3;
+  const Eigen::Vector3d dv_expected = tau * (F_true - before.F_ext);
+  EXPECT_LT(((after.v_WI - v_before) - dv_expected).norm(), 0.2 * dv_expected.norm());
+  EXPECT_GT(state.P()(imu_idx::kV, imu_idx::kV), 1e-4) << "velocity inherits the force's uncertainty";
+  EXPECT_TRUE(state.check_and_symmetrize().positive_definite);
+}
+
+}  // namespace
+}  // namespace vid

@@ -1,0 +1,94 @@
+#pragma once
+/// @file force_jump.h
+/// @brief Abrupt external forces (rope snaps, impacts, hooks, payload drops): detection in the
+/// accelerometer innovations and the re-estimate of the force from the samples that saw it.
+///
+/// Why: the force's process model (random walk on F and dF/dt) is built for smooth forces. A
+/// step of 5-30 N makes every accelerometer innovation large at once; a chi2 gate then throws
+/// away exactly the samples that carry the news, and those it keeps are explained partly by
+/// tilt and accelerometer bias. Instead, a generalized likelihood ratio (GLR) test for a step in
+/// the innovation mean (Willsky & Jones 1976) runs over the last n = 2 .. N samples:
+///
+///   l_n = C_n^T (sum_k S_k)^-1 C_n,   C_n = sum of the last n innovations (force frame),
+///
+/// (each innovation clipped at 3 sigma, so that one outlier weighs no more than a 3-sigma sample)
+/// which is chi2(3) while the filter is consistent and grows as n |dF|^2 / sigma^2 after a
+/// step. Each half of the window must carry the step too (a one-sample spike is not a step).
+/// On a detection the accelerometer corrections of the window are undone, the force gets the
+/// step's prior variance and its rate restarts, and the window's samples are applied once as
+/// their mean, so the force jumps to the new level in a few samples while attitude and biases
+/// keep what they had; velocity and position get what propagation with the old force missed.
+/// Samples the chi2 gate held back inside the window are used, not lost.
+
+#include <Eigen/Core>
+#include <deque>
+#include <optional>
+#include <vector>
+
+#include "vio_core/estimator_params.h"
+#include "vio_core/measurements.h"
+#include "vio_core/state.h"
+
+namespace vid {
+
+/// @brief Largest IMU error block (theta, p, v, b_g, b_a, F, dF/dt).
+constexpr int kMaxImuDim = 21;
+
+/// @brief One accelerometer sample as the detector keeps it.
+struct AccelInnovation {
+  TimeNs t_ns = 0;
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();  ///< innovation in the force frame [m/s^2]
+  Eigen::Vector3d w_test = Eigen::Vector3d::Zero();  ///< w clipped at 3 sigma (set by the detector)
+  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();  ///< its covariance in the force frame
+  /// The measurement a_m - T_m in the force frame: R_WI (a_m - T_m) (world model; R_WI of the
+  /// sample's time) or a_m - T_m (body model).
+  Eigen::Vector3d y = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d R_WI = Eigen::Matrix3d::Identity();  ///< orientation estimate at the sample
+  Eigen::Matrix<double, kMaxImuDim, 1> dx_imu = Eigen::Matrix<double, kMaxImuDim, 1>::Zero();  ///< IMU-block correction applied (0 if gated)
+  bool gated = false;  ///< rejected by the chi2 gate when it arrived
+};
+
+/// @brief A detected step: over the newest n samples, GLR statistic and jump estimate.
+struct ForceJump {
+  int n = 0;
+  double statistic = 0.0;
+  Eigen::Vector3d delta = Eigen::Vector3d::Zero();  ///< mean innovation of the window (force frame)
+  TimeNs t_ns = 0;  ///< time of the newest sample
+};
+
+/// @brief Windowed GLR step detector over accelerometer innovations (no state mutation).
+class ForceJumpDetector {
+ public:
+  explicit ForceJumpDetector(const EstimatorParams& p);
+  /// @brief Add the newest sample; returns a sample pushed out of the window (the caller
+  /// finalizes its gate decision), if any.
+  std::optional<AccelInnovation> push(const AccelInnovation& s);
+  /// @brief Test every window of the newest 2 .. N samples; the detection with the largest
+  /// statistic (the most likely onset), or nullopt.
+  std::optional<ForceJump> test() const;
+  /// @brief Samples newest first (index 0 = newest).
+  const AccelInnovation& recent(int i) const { return buf_[buf_.size() - 1 - static_cast<std::size_t>(i)]; }
+  int size() const { return static_cast<int>(buf_.size()); }
+  /// @brief Forget every sample (after a jump the innovations restart from a new level).
+  void clear() { buf_.clear(); }
+
+ private:
+  double threshold_;
+  double split_sigma_;
+  int max_window_;
+  std::deque<AccelInnovation> buf_;
+  mutable std::vector<Eigen::Vector3d> cum_w_;  ///< scratch of test(): sums of the newest i innovations
+  mutable std::vector<Eigen::Matrix3d> cum_S_;
+};
+
+/// @brief Apply a detected jump to the state: undo the window's accelerometer corrections of
+/// the IMU block; add the step's prior to the force covariance (variance (2|delta|)^2 per axis)
+/// and restart its rate (zero mean, sigma_rate0, uncorrelated); update with the window's mean
+/// measurement y_bar = F - dF/dt dt_bar + R_bar b_a (+ noise_var / n) in one 3-row EKF update;
+/// move velocity and position by the integral of the window's innovations (what propagation
+/// with the old force missed), with its noise added to their covariance.
+/// @param window the jump's samples, newest first (detector.recent(0 .. n-1))
+void apply_force_jump(FilterState& state, const std::vector<AccelInnovation>& window, const ForceJump& jump,
+                      double noise_var, double sigma_rate0);
+
+}  // namespace vid
