@@ -267,6 +267,10 @@ TEST(EstimatorParamsYaml, RoundTripEveryFieldChanged) {
   p.accel_update = false;
   p.accel_chi2_gating = false;
   p.accel_chi2_multiplier = 2.5;
+  p.force_jump_detection = false;
+  p.force_jump_threshold = 25.5;
+  p.force_jump_split_sigma = 1.5;
+  p.force_jump_window = 32;
   p.visual_update = false;
   p.pixel_noise_px = 1.5;
   p.chi2_multiplier = 1.0 / 3.0;
@@ -298,6 +302,9 @@ TEST(EstimatorParamsYaml, RoundTripEveryFieldChanged) {
   EXPECT_EQ(q.window_size, 17);
   EXPECT_EQ(q.chi2_multiplier, 1.0 / 3.0);
   EXPECT_FALSE(q.use_stereo);
+  EXPECT_FALSE(q.force_jump_detection);
+  EXPECT_EQ(q.force_jump_window, 32);
+  EXPECT_EQ(q.force_jump_threshold, 25.5);
   EXPECT_FALSE(q.msckf_normal_equations);
   EXPECT_EQ(q.max_features_per_update, 0);
   EXPECT_EQ(q.init_sigma_force, 0.7);
