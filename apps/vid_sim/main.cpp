@@ -1,5 +1,5 @@
 /// @file main.cpp
-/// @brief vid_sim: scenario YAML -> simulated dataset folder (DESIGN §4).
+/// @brief vid_sim: scenario YAML -> simulated dataset folder (docs/formats.md §1).
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>

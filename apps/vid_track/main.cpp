@@ -1,5 +1,5 @@
 /// @file main.cpp
-/// @brief vid_track: run the KLT frontend alone on a dataset folder (DESIGN §4) and write the
+/// @brief vid_track: run the KLT frontend alone on a dataset folder (docs/formats.md §1) and write the
 /// tracks as CSV (#timestamp [ns],cam_id,feature_id,u [px],v [px]), optionally with pictures.
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>

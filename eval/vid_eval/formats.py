@@ -1,6 +1,6 @@
 """Column layouts of every file the package reads: the single source of truth.
 
-The C++ writer of ``vid_run`` (DESIGN §5) produces ``state.csv`` and ``force.csv`` with the
+The C++ writer of ``vid_run`` (docs/formats.md §2) produces ``state.csv`` and ``force.csv`` with the
 headers below; :func:`header_line` gives the exact first line. Column *names* are the part of
 each header field before the first space; the bracketed unit is documentation. Readers check
 the names (when a header is present) and the column count.

@@ -1,4 +1,4 @@
-"""Loaders of every file format the evaluation reads (DESIGN §4 and §5, TUM, EuRoC).
+"""Loaders of every file format the evaluation reads (docs/formats.md §1 and §5, TUM, EuRoC).
 
 Each loader returns a typed series from :mod:`vid_eval.series` or raises
 :class:`~vid_eval.errors.InputFormatError` naming file and line.
@@ -48,7 +48,7 @@ def load_euroc_pose_csv(path: PathLike) -> Trajectory:
 
 
 def load_state(path: PathLike) -> StateSeries:
-    """Our ``state.csv`` (DESIGN §5, columns in :data:`vid_eval.formats.STATE_COLUMNS`)."""
+    """Our ``state.csv`` (docs/formats.md §2, columns in :data:`vid_eval.formats.STATE_COLUMNS`)."""
     names = [n for n, _ in formats.STATE_COLUMNS]
     tab = read_table(path, {len(names)}, expected_names=names, what="state.csv")
     v = tab.values
@@ -134,7 +134,7 @@ def load_mass(path: PathLike) -> ScalarSeries:
 
 
 def load_vehicle_mass(path: PathLike) -> float:
-    """``mass_kg`` of a ``vehicle.yaml`` (DESIGN §4)."""
+    """``mass_kg`` of a ``vehicle.yaml`` (docs/formats.md §1)."""
     spath = os.fspath(path)
     try:
         with open(spath, "r", encoding="utf-8") as handle:

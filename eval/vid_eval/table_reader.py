@@ -1,4 +1,4 @@
-"""Strict reader for the numeric text tables of DESIGN §4/§5 (CSV and TUM whitespace files).
+"""Strict reader for the numeric text tables of docs/formats.md §1/§2 (CSV and TUM whitespace files).
 
 It checks what the metrics rely on and reports the first problem with file and line:
 missing/empty file, wrong column count, a value that is not a number, timestamps that are

@@ -1,4 +1,4 @@
-// vid_track end to end on small synthetic dataset folders (DESIGN §4): a single stereo pair,
+// vid_track end to end on small synthetic dataset folders (docs/formats.md §1): a single stereo pair,
 // a short stereo sequence, and bad input (one-line errors, non-zero exit).
 #include <gtest/gtest.h>
 

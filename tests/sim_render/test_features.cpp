@@ -25,7 +25,7 @@ SceneConfig feature_scene() {
   return c;
 }
 
-/// VID stereo rig: camera-to-IMU rotation and translation of DESIGN §8, 5 cm baseline.
+/// VID stereo rig: camera-to-IMU rotation and translation of docs/design.md §6, 5 cm baseline.
 std::vector<CameraCalib> stereo_rig() {
   std::vector<CameraCalib> cams = {test::vid_calib_distorted(0), test::vid_calib_distorted(1)};
   Eigen::Matrix3d R_IC;

@@ -7,7 +7,7 @@
 
 namespace vid::sim::test {
 
-/// VID-Dataset intrinsics (DESIGN §8) with a clearly non-zero radtan distortion.
+/// VID-Dataset intrinsics (docs/design.md §6) with a clearly non-zero radtan distortion.
 inline CameraCalib vid_calib_distorted(int cam_id = 0) {
   CameraCalib c;
   c.cam_id = cam_id;

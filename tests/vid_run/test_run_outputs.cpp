@@ -1,4 +1,4 @@
-/// Output files of a run: formats of DESIGN §5 and flushing after every row (an interrupted
+/// Output files of a run: formats of docs/formats.md §2 and flushing after every row (an interrupted
 /// run keeps what it wrote).
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Run the pipeline on a simulator folder (DESIGN §4, feature level) read with
+// Run the pipeline on a simulator folder (docs/formats.md §1, feature level) read with
 // vid::io::DatasetReader; undistort features with vid::CameraModel; evaluate against the
 // folder's ground truth (ATE with position+yaw alignment, world force RMSE).
 #include <filesystem>

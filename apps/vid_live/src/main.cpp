@@ -1,4 +1,4 @@
-/// vid_live: estimate pose and external force from LCM sensor streams (DESIGN §6, issue 9).
+/// vid_live: estimate pose and external force from LCM sensor streams (docs/design.md §4, issue 9).
 #include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>

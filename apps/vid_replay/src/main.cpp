@@ -1,4 +1,4 @@
-/// vid_replay: publish a dataset folder on LCM (DESIGN §6, issue 9).
+/// vid_replay: publish a dataset folder on LCM (docs/design.md §4, issue 9).
 #include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>

@@ -1,4 +1,4 @@
-/// vid_run: offline estimation on a dataset folder (DESIGN §5, §6).
+/// vid_run: offline estimation on a dataset folder (docs/formats.md §2, docs/design.md §4).
 #include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>

@@ -3,7 +3,7 @@
 /// @brief Multirotor rigid-body model: per-rotor thrust T_i = k_i n_i^2, rotor drag torque,
 /// first-order motor lag, rotor speed limits, optional linear rotor drag, RK4 integration.
 ///
-/// Rotor speeds n are kept in the unit of the rotor sensor (rpm or rad/s, DESIGN §3); k_i and
+/// Rotor speeds n are kept in the unit of the rotor sensor (rpm or rad/s, docs/design.md §3); k_i and
 /// the drag-torque coefficients are per that unit squared.
 
 #include <Eigen/Core>

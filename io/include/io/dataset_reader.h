@@ -1,6 +1,6 @@
 #pragma once
 /// @file dataset_reader.h
-/// @brief Streams an EuRoC/ASL folder (DESIGN §4) as one time-ordered sequence of typed
+/// @brief Streams an EuRoC/ASL folder (docs/formats.md §1) as one time-ordered sequence of typed
 /// measurements, without loading images into memory.
 
 #include <filesystem>

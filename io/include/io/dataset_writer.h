@@ -1,6 +1,6 @@
 #pragma once
 /// @file dataset_writer.h
-/// @brief Writes an EuRoC/ASL folder (DESIGN §4) stream by stream, flushing as it goes.
+/// @brief Writes an EuRoC/ASL folder (docs/formats.md §1) stream by stream, flushing as it goes.
 
 #include <filesystem>
 #include <memory>

@@ -1,6 +1,6 @@
 #pragma once
 /// @file sensor_yaml.h
-/// @brief The dataset folder's own YAML files (DESIGN §4): EuRoC camN/ and imu0/sensor.yaml,
+/// @brief The dataset folder's own YAML files (docs/formats.md §1): EuRoC camN/ and imu0/sensor.yaml,
 /// rotor0/sensor.yaml and vehicle.yaml. Strict loaders (ConfigError naming file, line and key)
 /// and writers whose text the loaders read back exactly (every struct prints itself).
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file dataset_sink.h
-/// @brief SimSink that writes a DESIGN §4 folder through vid::io::DatasetWriter, forwarding
+/// @brief SimSink that writes a docs/formats.md §1 folder through vid::io::DatasetWriter, forwarding
 /// camera triggers to the visual output (rendered images and/or feat0 + landmarks.csv).
 
 #include <filesystem>

@@ -7,7 +7,7 @@
 
 namespace vid {
 
-/// @brief What drives the propagation (DESIGN §1).
+/// @brief What drives the propagation (docs/design.md §1).
 enum class PropagationMode {
   kImu,       ///< accelerometer + gyro drive propagation (classic VIO)
   kDynamics,  ///< gyro + thrust drive propagation; accelerometer is a measurement

@@ -1,6 +1,6 @@
 #pragma once
 /// @file so3.h
-/// @brief SO(3) and unit-quaternion helpers (Hamilton, right perturbation, DESIGN §3):
+/// @brief SO(3) and unit-quaternion helpers (Hamilton, right perturbation, docs/design.md §3):
 /// R = R_hat * Exp(dtheta), q = q_hat ⊗ exp(dtheta / 2). All functions are accurate for
 /// angles near 0 (series expansions) and near pi (quaternion-based logarithm).
 

@@ -4,7 +4,7 @@
 /// the error-state covariance P (IMU block, optional calibration poses, stochastic clones),
 /// clone augmentation, marginalization, error-state correction, and health checks.
 ///
-/// Error-state layout of the IMU block (right perturbation on orientation, DESIGN §3):
+/// Error-state layout of the IMU block (right perturbation on orientation, docs/design.md §3):
 /// [dtheta(3), dp_WI(3), dv_WI(3), db_g(3), db_a(3)] and, in dynamics mode, dF_ext(3) (in the
 /// state's force frame, EstimatorParams::force_frame), then optionally dF_ext/dt(3) in the same
 /// frame (EstimatorParams::force_rate_random_walk > 0).

@@ -1,7 +1,7 @@
 #pragma once
 /// @file run_main.h
 /// @brief Runs a program body, turning any exception into one "PROGRAM: error: ..." line
-/// on stderr and exit code 1 (DESIGN §3: bad input never crashes a program).
+/// on stderr and exit code 1 (docs/design.md §3: bad input never crashes a program).
 
 #include <functional>
 #include <string>

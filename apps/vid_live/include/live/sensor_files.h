@@ -1,7 +1,7 @@
 #pragma once
 /// @file sensor_files.h
-/// @brief Calibration of a live setup from sensor files laid out as a dataset folder (DESIGN
-/// §4) without the data: camN/sensor.yaml, imu0/sensor.yaml, rotor0/sensor.yaml, vehicle.yaml.
+/// @brief Calibration of a live setup from sensor files laid out as a dataset folder
+/// (docs/formats.md §1) without the data: camN/sensor.yaml, imu0/sensor.yaml, rotor0/sensor.yaml, vehicle.yaml.
 
 #include <filesystem>
 

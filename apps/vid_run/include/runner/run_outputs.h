@@ -1,6 +1,6 @@
 #pragma once
 /// @file run_outputs.h
-/// @brief Writers of the estimator-run outputs of DESIGN §5. Every row is flushed, so an
+/// @brief Writers of the estimator-run outputs of docs/formats.md §2. Every row is flushed, so an
 /// interrupted run keeps everything it had written.
 
 #include <Eigen/Core>

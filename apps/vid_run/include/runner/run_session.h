@@ -1,7 +1,7 @@
 #pragma once
 /// @file run_session.h
 /// @brief Push-style estimator session: the wiring of vid_run (KLT frontend or feat0
-/// undistortion -> estimator pipeline -> DESIGN §5 outputs, timings, counters, metrics) fed one
+/// undistortion -> estimator pipeline -> docs/formats.md §2 outputs, timings, counters, metrics) fed one
 /// measurement at a time. vid_run drives it from a dataset reader; vid_live from LCM.
 
 #include <filesystem>

@@ -1,6 +1,6 @@
 #pragma once
 /// @file run_summary.h
-/// @brief Accumulates per-frame stage times and writes summary.json (DESIGN §5).
+/// @brief Accumulates per-frame stage times and writes summary.json (docs/formats.md §2).
 
 #include <filesystem>
 #include <map>

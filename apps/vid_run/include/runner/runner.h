@@ -1,7 +1,7 @@
 #pragma once
 /// @file runner.h
 /// @brief vid_run's wiring: dataset reader -> (KLT frontend | feat0 undistortion) ->
-/// estimator pipeline -> outputs (DESIGN §5), with timing, counters and metrics.
+/// estimator pipeline -> outputs (docs/formats.md §2), with timing, counters and metrics.
 
 #include <atomic>
 #include <filesystem>

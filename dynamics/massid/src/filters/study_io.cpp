@@ -27,7 +27,7 @@ std::vector<std::string> split(const std::string& line) {
   return out;
 }
 
-/// Seed anchors (DESIGN §7, loop trajectory) and this update-time targets [ms].
+/// Seed anchors (docs/design.md §5, loop trajectory) and this update-time targets [ms].
 struct Anchor {
   const char* method;
   double seed_ms;
@@ -144,7 +144,7 @@ std::string write_tables(const std::vector<RunRow>& rows, const std::filesystem:
   std::ostringstream summary;
   summary << "# Mass identification: mean update time [ms] and RMSPE [%] per trajectory\n\n"
           << "Cells: mean over the evaluated runs of each run's mean update time (thread CPU "
-             "time per update() call; runs.csv also has wall time) and RMSPE (seed eq. 48). Seed (loop, DESIGN §7): update time EKF 0.005, UKF 0.0075, "
+             "time per update() call; runs.csv also has wall time) and RMSPE (seed eq. 48). Seed (loop, docs/design.md §5): update time EKF 0.005, UKF 0.0075, "
              "MSCKF 0.156, SWLS 0.60 ms; RMSPE 0.5-2.4 %.\n\n";
   for (const std::string& traj : trajs) {
     std::set<std::string> profs;

@@ -19,7 +19,7 @@
 namespace vid::massid {
 namespace {
 
-/// @brief [q, p, v, m] with q ⊞ dtheta = q ⊗ exp(dtheta / 2) (DESIGN §3).
+/// @brief [q, p, v, m] with q ⊞ dtheta = q ⊗ exp(dtheta / 2) (docs/design.md §3).
 class QuadStateManifold final : public ceres::Manifold {
  public:
   int AmbientSize() const override { return kSwlsAmbient; }

@@ -16,7 +16,7 @@ namespace vid::msckf {
 ///
 /// Error block in P (6 columns starting at cov_index): [dtheta(3), dp(3)], with the
 /// orientation error a right perturbation R_WI = R_WI_hat * Exp(dtheta) and p_WI = p_hat + dp
-/// (DESIGN §3). Jacobians are evaluated at the first estimates (*_fej); residuals use the
+/// (docs/design.md §3). Jacobians are evaluated at the first estimates (*_fej); residuals use the
 /// current values.
 struct ClonePose {
   TimeNs t_ns = 0;
