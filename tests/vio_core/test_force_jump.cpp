@@ -157,3 +157,42 @@ TEST(ApplyForceJump, ReEstimatesTheForceAndKeepsAttitudeAndBias) {
 
 }  // namespace
 }  // namespace vid
+
+namespace vid {
+namespace {
+
+// Body-frame force model (the seed's eq. 58): the force and its step are in I, velocity and
+// position move in W, so the catch-up is rotated by the attitude.
+TEST(ApplyForceJump, BodyForceModelMovesVelocityInTheWorldFrame) {
+  FilterState state(true, ForceFrame::kBody, false);
+  ImuState x;
+  x.q_WI = so3::quat_exp(Eigen::Vector3d(0.0, 0.0, 1.2));  // yawed: body x is not world x
+  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(state.imu_dim(), state.imu_dim()) * 1e-4;
+  P.block<3, 3>(imu_idx::kF, imu_idx::kF) = 0.01 * Eigen::Matrix3d::Identity();
+  state.initialize(0, x, P);
+  EstimatorParams p;
+  ForceJumpDetector det(p);
+  const Eigen::Vector3d F_I(4.0, 0.0, 0.0), T_m(0.0, 0.0, 9.81);
+  std::optional<ForceJump> jump;
+  TimeNs t = 0;
+  while (!jump) {
+    t += 2'500'000;
+    state.set_time(t);
+    AccelInnovation info;
+    accel_update(state, T_m + F_I, T_m, kSigma * kSigma, 0.0, &info);
+    det.push(info);
+    jump = det.test();
+    ASSERT_LT(t, 200'000'000) << "no detection";
+  }
+  std::vector<AccelInnovation> window;
+  for (int i = 0; i < jump->n; ++i) window.push_back(det.recent(i));
+  const Eigen::Vector3d v_before = state.imu().v_WI;
+  apply_force_jump(state, window, *jump, kSigma * kSigma, p.init_sigma_force_rate);
+  EXPECT_LT((state.imu().F_ext - F_I).norm(), 0.05);
+  const Eigen::Vector3d dv = state.imu().v_WI - v_before;
+  const Eigen::Vector3d dir_W = x.q_WI * Eigen::Vector3d::UnitX();
+  EXPECT_GT(dv.normalized().dot(dir_W), 0.99) << dv.transpose();
+}
+
+}  // namespace
+}  // namespace vid

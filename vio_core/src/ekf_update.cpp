@@ -140,7 +140,7 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
     info->w = R * r;
     info->S = R * S * R.transpose();
     info->y = R * (a_m - T_m);
-    info->R_WI = R;
+    info->R_WI = state.imu().q_WI.toRotationMatrix();  // the estimate itself, in both force models
     info->dx_imu.setZero();
     info->gated = gated;
   }
