@@ -104,6 +104,32 @@ TEST(ForceJumpDetector, WindowIsBounded) {
   EXPECT_EQ(det.size(), 8);
 }
 
+/// Feed a constant accelerometer reading a_m (noise-free) at 400 Hz as the pipeline does, until
+/// the detector fires; returns the jump and its window (newest first), t = the filter time.
+struct Detected {
+  ForceJump jump;
+  std::vector<AccelInnovation> window;
+  TimeNs t = 0;
+};
+Detected feed_until_jump(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m) {
+  EstimatorParams p;
+  ForceJumpDetector det(p);
+  Detected d;
+  for (d.t = 2'500'000; d.t < 200'000'000; d.t += 2'500'000) {
+    state.set_time(d.t);
+    AccelInnovation info;
+    accel_update(state, a_m, T_m, kSigma * kSigma, 0.0, &info);
+    det.push(info);
+    if (auto j = det.test()) {
+      d.jump = *j;
+      for (int i = 0; i < j->n; ++i) d.window.push_back(det.recent(i));
+      return d;
+    }
+  }
+  ADD_FAILURE() << "no detection";
+  return d;
+}
+
 // A world-force filter whose force jumped by dF: feed the accelerometer as the pipeline does,
 // then apply the detected jump. The force reaches the new level, the window's corrections of
 // attitude and bias are undone, and velocity/position catch up with the step they missed.
@@ -120,29 +146,15 @@ TEST(ApplyForceJump, ReEstimatesTheForceAndKeepsAttitudeAndBias) {
   state.initialize(0, x, P);
   const ImuState before = state.imu();
 
-  EstimatorParams p;
-  ForceJumpDetector det(p);
   const Eigen::Vector3d F_true = x.F_ext + Eigen::Vector3d(0.0, 4.0, -2.0);  // W
-  const Eigen::Matrix3d R = x.q_WI.toRotationMatrix();
   const Eigen::Vector3d T_m(0.0, 0.0, 9.81);
   const double noise_var = kSigma * kSigma;
-  Noise noise(3);
-  std::optional<ForceJump> jump;
-  TimeNs t = 0;
-  while (!jump) {
-    t += 2'500'000;
-    state.set_time(t);
-    AccelInnovation info;
-    const Eigen::Vector3d a_m = T_m + R.transpose() * F_true + x.b_a + 0.0 * noise();
-    accel_update(state, a_m, T_m, noise_var, 0.0, &info);
-    det.push(info);
-    jump = det.test();
-    ASSERT_LT(t, 200'000'000) << "no detection";
-  }
-  std::vector<AccelInnovation> window;
-  for (int i = 0; i < jump->n; ++i) window.push_back(det.recent(i));
+  const Detected d = feed_until_jump(state, T_m + x.q_WI.toRotationMatrix().transpose() * F_true + x.b_a, T_m);
+  ASSERT_FALSE(d.window.empty());
+  const std::vector<AccelInnovation>& window = d.window;
+  const TimeNs t = d.t;
   const Eigen::Vector3d v_before = state.imu().v_WI;
-  apply_force_jump(state, window, *jump, noise_var, p.init_sigma_force_rate);
+  apply_force_jump(state, window, d.jump, noise_var, EstimatorParams{}.init_sigma_force_rate);
   const ImuState& after = state.imu();
   EXPECT_LT((after.F_ext - F_true).norm(), 0.05) << after.F_ext.transpose();
   EXPECT_LT((after.b_a - before.b_a).norm(), 0.01) << "bias kept";
@@ -170,24 +182,11 @@ TEST(ApplyForceJump, BodyForceModelMovesVelocityInTheWorldFrame) {
   Eigen::MatrixXd P = Eigen::MatrixXd::Identity(state.imu_dim(), state.imu_dim()) * 1e-4;
   P.block<3, 3>(imu_idx::kF, imu_idx::kF) = 0.01 * Eigen::Matrix3d::Identity();
   state.initialize(0, x, P);
-  EstimatorParams p;
-  ForceJumpDetector det(p);
   const Eigen::Vector3d F_I(4.0, 0.0, 0.0), T_m(0.0, 0.0, 9.81);
-  std::optional<ForceJump> jump;
-  TimeNs t = 0;
-  while (!jump) {
-    t += 2'500'000;
-    state.set_time(t);
-    AccelInnovation info;
-    accel_update(state, T_m + F_I, T_m, kSigma * kSigma, 0.0, &info);
-    det.push(info);
-    jump = det.test();
-    ASSERT_LT(t, 200'000'000) << "no detection";
-  }
-  std::vector<AccelInnovation> window;
-  for (int i = 0; i < jump->n; ++i) window.push_back(det.recent(i));
+  const Detected d = feed_until_jump(state, T_m + F_I, T_m);
+  ASSERT_FALSE(d.window.empty());
   const Eigen::Vector3d v_before = state.imu().v_WI;
-  apply_force_jump(state, window, *jump, kSigma * kSigma, p.init_sigma_force_rate);
+  apply_force_jump(state, d.window, d.jump, kSigma * kSigma, EstimatorParams{}.init_sigma_force_rate);
   EXPECT_LT((state.imu().F_ext - F_I).norm(), 0.05);
   const Eigen::Vector3d dv = state.imu().v_WI - v_before;
   const Eigen::Vector3d dir_W = x.q_WI * Eigen::Vector3d::UnitX();
