@@ -4,8 +4,10 @@
 #include <benchmark/benchmark.h>
 
 #include <random>
+#include <vector>
 
 #include "vio_core/ekf_update.h"
+#include "vio_core/force_jump.h"
 #include "vio_core/initializer.h"
 #include "vio_core/propagation.h"
 #include "vio_core/so3.h"
@@ -50,6 +52,31 @@ void BM_AccelUpdate(benchmark::State& st) {
   st.counters["dim"] = s.dim();
 }
 BENCHMARK(BM_AccelUpdate)->Args({11, 1})->Args({11, 0})->Args({0, 1});
+
+// The force-jump detector's per-sample work as the pipeline does it after every accelerometer
+// update: push one innovation and test every window of a full 64-sample buffer (white
+// innovations: no detection, the common case).
+void BM_ForceJumpPushTest(benchmark::State& st) {
+  const EstimatorParams p;
+  ForceJumpDetector det(p);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> nd(0.0, 2.0);
+  std::vector<AccelInnovation> samples(1024);
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    samples[k].t_ns = static_cast<TimeNs>(k) * 2'500'000;
+    samples[k].w = Eigen::Vector3d(nd(rng), nd(rng), nd(rng));
+    samples[k].S = 4.0 * Eigen::Matrix3d::Identity();
+  }
+  for (int k = 0; k < p.force_jump_window; ++k) det.push(samples[static_cast<std::size_t>(k)]);
+  std::size_t k = 0;
+  for (auto _ : st) {
+    det.push(samples[k++ & 1023]);
+    auto j = det.test();
+    if (j) det.clear();
+    benchmark::DoNotOptimize(j);
+  }
+}
+BENCHMARK(BM_ForceJumpPushTest);
 
 void BM_PropagationStep(benchmark::State& st) {
   const PropagationMode mode = st.range(0) ? PropagationMode::kDynamics : PropagationMode::kImu;

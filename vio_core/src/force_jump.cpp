@@ -3,6 +3,7 @@
 #include "vio_core/force_jump.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -53,9 +54,13 @@ std::optional<ForceJump> ForceJumpDetector::test() const {
     const Eigen::Matrix3d& SS = cum_S_[static_cast<std::size_t>(n)];
     const Eigen::Vector3d& C_half = cum_w_[static_cast<std::size_t>(n / 2)];
     const Eigen::Matrix3d& SS_half = cum_S_[static_cast<std::size_t>(n / 2)];
-    const Eigen::LLT<Eigen::Matrix3d> llt(SS);
-    if (llt.info() != Eigen::Success) continue;
-    const Eigen::Vector3d a = llt.solve(C);  // (sum S)^-1 C
+    // Closed-form 3x3 inverse (cofactors): several times cheaper than a Cholesky per window,
+    // and this runs for ~50 windows after every accelerometer sample.
+    Eigen::Matrix3d SS_inv;
+    bool invertible = false;
+    SS.computeInverseWithCheck(SS_inv, invertible);
+    if (!invertible) continue;
+    const Eigen::Vector3d a = SS_inv * C;  // (sum S)^-1 C
     const double l = C.dot(a);
     if (!(l > threshold_)) continue;
     // Each half must carry the step: its projection on the step direction u = a / sqrt(l)
