@@ -14,8 +14,9 @@ vid_massid (generate, run, report, elm-study) with fixed seeds into OUT.
 (numbers compared with |a-b| <= 1e-12 * max(1, |a|)), or the first difference. Measured
 timings are not outputs of the computation and are left out: JSON keys and CSV columns whose
 names say time was measured (`*_ms`, `cpu*`, `wall*`, ...), and timing.csv's values. The
-comparison must run both sides in the same OUT path, since outputs name their inputs' paths;
-`run` therefore works in OUT/../work and moves the results to OUT. Exit 1 on any difference.
+outputs name their inputs' paths: `run` works in OUT/../work, records that path in
+OUT/steps.json, and `compare` reads each side's text with its work path replaced by <WORK>.
+Exit 1 on any difference.
 """
 from __future__ import annotations
 
@@ -100,7 +101,7 @@ def run(build: pathlib.Path, out: pathlib.Path) -> None:
     # The LCM event log carries wall-clock receive times: keep only what vid_live made of it.
     (work / "replay.log").unlink()
     shutil.copytree(work, out)
-    (out / "steps.json").write_text(json.dumps(steps, indent=1))
+    (out / "steps.json").write_text(json.dumps({"work": str(work), "steps": steps}, indent=1))
     print(f"[parity] {len(steps)} steps -> {out}")
 
 
@@ -126,9 +127,9 @@ def _numbers_equal(a: str, b: str, tol: float) -> bool:
     return True
 
 
-def _csv_text(path: pathlib.Path) -> str:
-    lines = path.read_text().splitlines()
-    if path.name == "timing.csv":
+def _csv_text(text: str, name: str) -> str:
+    lines = text.splitlines()
+    if name == "timing.csv":
         return "\n".join(lines[:1] + [l.split(",")[0] for l in lines[1:]])
     if not lines:
         return ""
@@ -137,10 +138,10 @@ def _csv_text(path: pathlib.Path) -> str:
     return "\n".join(",".join(c for i, c in enumerate(l.split(",")) if i in keep) for l in lines)
 
 
-def _md_text(path: pathlib.Path) -> str:
+def _md_text(text: str, name: str) -> str:
     """Markdown tables without the columns of measured times (header names them)."""
     out, keep = [], None
-    for line in path.read_text().splitlines():
+    for line in text.splitlines():
         if not line.startswith("|"):
             keep = None
             out.append(line)
@@ -152,12 +153,12 @@ def _md_text(path: pathlib.Path) -> str:
     return "\n".join(out)
 
 
-def _compare_file(a: pathlib.Path, b: pathlib.Path) -> tuple[bool, str]:
-    ba, bb = a.read_bytes(), b.read_bytes()
+def _compare_file(a: pathlib.Path, b: pathlib.Path, wa: bytes, wb: bytes) -> tuple[bool, str]:
+    ba, bb = a.read_bytes().replace(wa, b"<WORK>"), b.read_bytes().replace(wb, b"<WORK>")
     if ba == bb:
         return True, "identical"
     if a.suffix == ".json":
-        ja, jb = _strip_json(json.loads(ba)), _strip_json(json.loads(bb))
+        ja, jb = _strip_json(json.loads(ba.decode(errors="replace"))), _strip_json(json.loads(bb.decode(errors="replace")))
         sa, sb = json.dumps(ja, sort_keys=True, indent=0), json.dumps(jb, sort_keys=True, indent=0)
         if sa == sb:
             return True, "identical without measured times"
@@ -168,8 +169,8 @@ def _compare_file(a: pathlib.Path, b: pathlib.Path) -> tuple[bool, str]:
                 return False, f"differs: {la.strip()} | {lb.strip()}"
         return False, "differs in length"
     if a.suffix in (".csv", ".txt", ".md", ".yaml"):
-        text = {".csv": _csv_text, ".md": _md_text}.get(a.suffix, lambda p: p.read_text())
-        ta, tb = text(a), text(b)
+        text = {".csv": _csv_text, ".md": _md_text}.get(a.suffix, lambda t, name: t)
+        ta, tb = text(ba.decode(), a.name), text(bb.decode(), b.name)
         if ta == tb:
             return True, "identical without measured times"
         la, lb = ta.splitlines(), tb.splitlines()
@@ -187,12 +188,15 @@ def compare(a: pathlib.Path, b: pathlib.Path) -> int:
     fb = {p.relative_to(b) for p in b.rglob("*") if p.is_file()}
     bad = 0
     counts: dict[str, int] = {}
+    wa, wb = (json.loads((d / "steps.json").read_text())["work"].encode() for d in (a, b))
     for rel in sorted(fa | fb):
         if rel not in fa or rel not in fb:
             print(f"MISSING in {'after' if rel in fa else 'before'}: {rel}")
             bad += 1
             continue
-        ok, how = _compare_file(a / rel, b / rel)
+        if rel.name == "steps.json":
+            continue
+        ok, how = _compare_file(a / rel, b / rel, wa, wb)
         counts[how if ok else "different"] = counts.get(how if ok else "different", 0) + 1
         if not ok:
             print(f"DIFFERENT {rel}: {how}")

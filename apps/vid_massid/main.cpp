@@ -13,15 +13,9 @@ int main(int argc, char** argv) {
                  "update times."};
     cli.require_subcommand(1);
     int exit_code = 0;
-#ifdef VID_MASSID_HAVE_GENERATE
     vid::massid_app::add_generate_command(cli, &exit_code);
-#endif
-#ifdef VID_MASSID_HAVE_RUN_REPORT
     vid::massid_app::add_run_report_commands(cli, &exit_code);
-#endif
-#ifdef VID_MASSID_HAVE_ELM_STUDY
     vid::massid_app::add_elm_study_command(cli, &exit_code);
-#endif
     try {
       cli.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

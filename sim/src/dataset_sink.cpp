@@ -49,12 +49,3 @@ void DatasetSink::finish() {
 }
 
 }  // namespace vid::sim
-
-#ifndef VID_SIM_HAS_RENDER
-namespace vid::sim {
-std::unique_ptr<VisualOutput> make_visual_output(const Scenario& sc) {
-  if (sc.cameras.cameras.empty() || (!sc.cameras.images && !sc.cameras.features)) return nullptr;
-  throw std::runtime_error(sc.file + ": cameras requested but vid_sim was built without the render module");
-}
-}  // namespace vid::sim
-#endif

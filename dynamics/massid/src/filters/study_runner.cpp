@@ -34,12 +34,7 @@ std::vector<std::unique_ptr<MassEstimator>> make_estimators(
   std::vector<std::unique_ptr<MassEstimator>> out;
   for (const std::string& m : o.methods) {
     if (is_data_driven(m)) {
-#ifdef VID_MASSID_HAVE_ELM
       out.push_back(train_data_driven(m, training, o.data_driven));
-#else
-      (void)training;
-      throw std::invalid_argument("method '" + m + "' is not built (no src/elm)");
-#endif
     } else {
       out.push_back(make_model_based_estimator(m, o.tuning));
     }
@@ -49,13 +44,7 @@ std::vector<std::unique_ptr<MassEstimator>> make_estimators(
 
 }  // namespace
 
-bool data_driven_available() {
-#ifdef VID_MASSID_HAVE_ELM
-  return true;
-#else
-  return false;
-#endif
-}
+bool data_driven_available() { return true; }
 
 std::vector<std::string> available_methods() {
   std::vector<std::string> m = model_based_methods();
