@@ -92,7 +92,10 @@ SystemConfig resolve_config(const std::optional<fs::path>& config, const io::Dat
 
 std::string describe(const SystemConfig& cfg) {
   std::ostringstream os;
-  os << "# estimator (" << cfg.sources.at("estimator") << ")\n" << io::to_yaml(cfg.estimator) << "\n";
+  // Parameters built in code (tests) name no file.
+  const auto source = cfg.sources.find("estimator");
+  os << "# estimator (" << (source != cfg.sources.end() ? source->second : "parameters") << ")\n"
+     << io::to_yaml(cfg.estimator) << "\n";
   for (const auto& cam : cfg.cameras) os << "# cam" << cam.cam_id << "\n" << cam << "\n";
   if (cfg.imu) os << "# imu\n" << *cfg.imu << "\n";
   if (cfg.rotor) os << "# rotor\n" << *cfg.rotor << "\n";
