@@ -9,6 +9,7 @@
 #include "frontend/klt_tracker.h"
 #include "frontend/track_drawing.h"
 #include "io/dataset_reader.h"
+#include "vid_system/frontend_stage.h"
 
 namespace vid::app {
 namespace {
@@ -41,10 +42,10 @@ TrackSummary run_tracking(const TrackOptions& o) {
   if (!reader.has_stream("cam0")) {
     throw io::DatasetError(reader.mav0().string() + ": no cam0/data.csv (vid_track needs images)");
   }
-  const bool stereo = cams.size() >= 2 && reader.has_stream("cam1") && o.params.stereo;
-  std::vector<CameraCalib> used{cams[0]};
-  if (stereo) used.push_back(cams[1]);
-  KltTracker tracker(o.params, used);
+  // The frontend as vid_run / vid_live run it (cam 1 only for a stereo frontend with cam 1 images).
+  system::FrontendStage frontend(o.params, cams, reader.has_stream("cam1"));
+  const bool stereo = frontend.cameras() == 2;
+  const KltTracker& tracker = frontend.tracker();
   TrackDrawer drawer;
   if (o.draw_dir) std::filesystem::create_directories(*o.draw_dir);
 
@@ -55,18 +56,18 @@ TrackSummary run_tracking(const TrackOptions& o) {
   double sum_ms = 0, sum_feat = 0, sum_stereo = 0;
   while (auto m = reader.next()) {
     if (const auto* imu = std::get_if<ImuSample>(&*m)) {
-      tracker.add_imu(*imu);
+      frontend.add_imu(*imu);
       continue;
     }
     const auto* frame = std::get_if<ImageFrame>(&*m);
     if (!frame) continue;
     cv::Mat left, right;
     for (const auto& ref : frame->images) {
-      if (ref.cam_id == used[0].cam_id) left = read_gray(ref.path);
-      if (stereo && ref.cam_id == used[1].cam_id) right = read_gray(ref.path);
+      if (ref.cam_id == cams[0].cam_id) left = read_gray(ref.path);
+      if (stereo && ref.cam_id == cams[1].cam_id) right = read_gray(ref.path);
     }
     if (left.empty()) continue;  // a right-only timestamp: nothing to track
-    const FeatureFrame ff = tracker.process(frame->t_ns, left, right);
+    const FeatureFrame ff = frontend.track(frame->t_ns, left, right);
     for (const auto& ob : ff.observations) {
       std::fprintf(csv.f, "%lld,%d,%llu,%.4f,%.4f\n", static_cast<long long>(ff.t_ns), ob.cam_id,
                    static_cast<unsigned long long>(ob.feature_id), ob.uv.x(), ob.uv.y());

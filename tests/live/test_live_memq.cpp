@@ -1,5 +1,5 @@
 // The live engine over real LCM (memq:// in one process): sensor messages published on LCM,
-// estimates/force/status published back by the engine; same estimates as a RunSession fed
+// estimates/force/status published back by the engine; same estimates as a System fed
 // directly; overload, camera stall and divergence handling.
 #include <gtest/gtest.h>
 
@@ -115,23 +115,23 @@ Listener run_over_memq(const Script& script, LiveOptions opt, nlohmann::json* su
   return listener;
 }
 
-TEST(LiveMemq, PublishesTheSameEstimatesAsARunSessionFedDirectly) {
+TEST(LiveMemq, PublishesTheSameEstimatesAsASystemFedDirectly) {
   Script script;
   script.build();
   nlohmann::json s;
   const Listener got = run_over_memq(script, live_options(), &s);
 
-  // Reference: the same measurements pushed straight into a session (what vid_run does).
-  runner::SessionOptions so;
+  // Reference: the same measurements pushed straight into a System (what vid_run does).
+  system::SystemOptions so;
   so.context = "reference";
-  runner::RunSession ref(so, calibration());
+  system::System ref(system::make_system_params(so, calibration()));
   std::vector<EstimateOutput> want;
-  ref.set_estimate_listener([&](const EstimateOutput& e) { want.push_back(e); });
+  ref.on_estimate([&](const EstimateOutput& e) { want.push_back(e); });
   const cv::Mat img = texture();
   std::size_t f = 0;
   for (const auto& m : script.imu) {
     ref.push(m);
-    if (f < script.frames.size() && script.frames[f] == stamp_of(m)) ref.push_images(script.frames[f++], img, {});
+    if (f < script.frames.size() && script.frames[f] == stamp_of(m)) ref.push(system::StereoFrame{script.frames[f++], img, {}});
   }
   ref.finish();
 

@@ -14,7 +14,7 @@
 #include <fstream>
 
 #include "consistency.h"
-#include "sim_runner.h"
+#include "sim_system.h"
 
 namespace {
 using namespace vid;

@@ -19,7 +19,7 @@
 #include <cstdio>
 #include <map>
 
-#include "sim_runner.h"
+#include "sim_system.h"
 
 namespace {
 using namespace vid;

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "runner/run_summary.h"
+#include "vid_system/summary.h"
 
 namespace vid::live {
 
@@ -19,17 +19,17 @@ double ms_between(SteadyClock::time_point a, SteadyClock::time_point b) {
 
 LiveEngine::LiveEngine(LiveOptions options, lcm::LCM* publisher)
     : opt_(std::move(options)), pub_(publisher), window_(opt_.reorder_window_ns), wall_start_(SteadyClock::now()) {
-  opt_.session.features = runner::FeatureSource::kImages;
+  opt_.session.features = system::FeatureSource::kImages;
   use_rotor_ = opt_.session.has_rotor;
   use_thrust_ = opt_.session.has_thrust && !use_rotor_;
   if (opt_.calibration.rotor) {
     rotor_count_ = opt_.calibration.rotor->count;
     rotor_unit_ = opt_.calibration.rotor->unit;
   }
-  session_ = std::make_unique<runner::RunSession>(opt_.session, opt_.calibration);
+  session_ = std::make_unique<system::System>(system::make_system_params(opt_.session, opt_.calibration));
   tracked_cameras_ = session_->tracked_cameras();
-  session_->set_estimate_listener([this](const EstimateOutput& e) { publish_estimate(*session_, e); });
-  session_->set_frame_listener([this](const FrameTimings& ft) {
+  session_->on_estimate([this](const EstimateOutput& e) { publish_estimate(*session_, e); });
+  session_->on_frame([this](const FrameTimings& ft) {
     auto it = frame_arrival_.find(ft.t_ns);
     if (it != frame_arrival_.end()) processed_arrivals_.push_back(it->second);
     frame_arrival_.erase(frame_arrival_.begin(), it == frame_arrival_.end() ? it : std::next(it));
@@ -218,7 +218,7 @@ void LiveEngine::process(WorkItem& w) {
   if (auto* f = std::get_if<CameraFrame>(&w)) {
     t = f->t_ns;
     frame_arrival_[t] = f->arrival;
-    session_->push_images(t, f->left, f->right);
+    session_->push(system::StereoFrame{t, f->left, f->right});
   } else {
     Measurement m = std::visit(
         [](auto& x) -> Measurement {
@@ -259,7 +259,7 @@ Health LiveEngine::health_locked() const {
   return stalled_ ? Health::kDegraded : Health::kTracking;
 }
 
-void LiveEngine::publish_estimate(const runner::RunSession& s, const EstimateOutput& e) {
+void LiveEngine::publish_estimate(const system::System& s, const EstimateOutput& e) {
   // Worker thread, inside session_->push(); the mutex is not held.
   state_t st;
   st.timestamp = e.t_ns;
@@ -371,7 +371,7 @@ nlohmann::json LiveEngine::summary() const {
   for (const auto& [name, value] : counters()) faults[name] = value;
   s["faults"] = faults;
   s["reinit_count"] = reinit_count_;
-  s["latency_image_to_state_ms"] = runner::stage_stats(latency_ms_);
+  s["latency_image_to_state_ms"] = system::stage_stats(latency_ms_);
   s["latency_image_to_state_ms"]["count"] = latency_ms_.size();
   s["live"] = {{"reorder_window_ms", static_cast<double>(opt_.reorder_window_ns) * 1e-6},
                {"max_queued_frames", opt_.max_queued_frames},
@@ -385,7 +385,7 @@ void LiveEngine::write_summary(const nlohmann::json& extra) const {
   if (!opt_.session.out_dir) return;
   nlohmann::json s = summary();
   s.update(extra);
-  runner::write_summary(*opt_.session.out_dir, s);
+  system::write_summary(*opt_.session.out_dir, s);
 }
 
 }  // namespace vid::live

@@ -7,7 +7,7 @@
 #include <csignal>
 
 #include "app/run_main.h"
-#include "runner/runner.h"
+#include "dataset_run.h"
 
 namespace {
 std::atomic<bool> g_stop{false};
@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   spdlog::set_pattern("%^vid_run: %l:%$ %v");
   return vid::app::run_main("vid_run", [&]() -> int {
     CLI::App app{"vid_run: estimate pose and external force on a dataset folder (EuRoC/ASL + extensions)"};
-    vid::runner::RunOptions opt;
+    vid::app::RunOptions opt;
     std::string config, mode, init, features = "auto";
     app.add_option("--dataset", opt.dataset, "dataset folder (SEQ or SEQ/mav0)")->required();
     app.add_option("--out", opt.out_dir, "output folder (created)")->required();
@@ -46,16 +46,16 @@ int main(int argc, char** argv) {
     if (!config.empty()) opt.config = config;
     if (!mode.empty()) opt.mode = vid::mode_from_string(mode);
     if (!init.empty()) opt.init = vid::init_mode_from_string(init);
-    opt.features = features == "images"  ? vid::runner::FeatureSource::kImages
-                   : features == "feat0" ? vid::runner::FeatureSource::kFeat0
-                                         : vid::runner::FeatureSource::kAuto;
+    opt.features = features == "images"  ? vid::system::FeatureSource::kImages
+                   : features == "feat0" ? vid::system::FeatureSource::kFeat0
+                                         : vid::system::FeatureSource::kAuto;
     opt.progress = !quiet;
     if (quiet) spdlog::set_level(spdlog::level::warn);
     std::signal(SIGINT, on_sigint);
     std::signal(SIGTERM, on_sigint);
-    const auto result = vid::runner::run(opt, g_stop);
-    if (result == vid::runner::RunResult::kDiverged) spdlog::error("the estimator diverged (see summary.json)");
-    if (result == vid::runner::RunResult::kInterrupted) spdlog::warn("interrupted: outputs and summary.json written");
+    const auto result = vid::app::run(opt, g_stop);
+    if (result == vid::app::RunResult::kDiverged) spdlog::error("the estimator diverged (see summary.json)");
+    if (result == vid::app::RunResult::kInterrupted) spdlog::warn("interrupted: outputs and summary.json written");
     return static_cast<int>(result);
   });
 }

@@ -2,7 +2,7 @@
 /// @file live_engine.h
 /// @brief vid_live's engine: raw LCM payloads in (from the LCM thread), decoded and put in
 /// order by a reorder window, queued (bounded: under overload the oldest camera frames are
-/// dropped, never IMU), run by a worker thread through the same RunSession as vid_run, with
+/// dropped, never IMU), run by a worker thread through the same vid_system System as vid_run, with
 /// estimates, force and health published on LCM.
 
 #include <atomic>
@@ -24,13 +24,13 @@
 #include "io/lcm/lcm_convert.h"
 #include "live/live_types.h"
 #include "live/reorder_window.h"
-#include "runner/run_session.h"
+#include "vid_system/system.h"
 
 namespace vid::live {
 
 /// @brief Settings of a live run.
 struct LiveOptions {
-  runner::SessionOptions session;          ///< out_dir, preset, mode, init (features = images)
+  system::SystemOptions session;           ///< out_dir, preset, mode, init (features = images)
   io::DatasetCalibration calibration;      ///< sensor files (cameras, IMU, rotors, vehicle)
   lcm_io::ChannelNames channels;
   TimeNs reorder_window_ns = 30'000'000;   ///< data time a message waits for late-comers
@@ -70,8 +70,8 @@ class LiveEngine {
   void finish();
   /// @brief True once the worker has stopped on an error (the input loop should end).
   bool failed() const { return failed_.load(); }
-  /// @brief summary.json content (session summary + live fields). Call after finish(): the
-  /// worker owns the session while it runs.
+  /// @brief summary.json content (System summary + live fields). Call after finish(): the
+  /// worker owns the System while it runs.
   nlohmann::json summary() const;
   /// @brief Write DIR/summary.json (summary() plus @p extra's fields) when an output folder was given.
   void write_summary(const nlohmann::json& extra = nlohmann::json::object()) const;
@@ -87,14 +87,14 @@ class LiveEngine {
   void push_work(WorkItem w, std::unique_lock<std::mutex>& lock);
   void worker_loop();
   void process(WorkItem& w);
-  void publish_estimate(const runner::RunSession& s, const EstimateOutput& e);
+  void publish_estimate(const system::System& s, const EstimateOutput& e);
   void publish_status_locked(TimeNs t);
   std::vector<std::pair<std::string, std::int64_t>> counters() const;  // under mutex_
   Health health_locked() const;
 
   LiveOptions opt_;
   lcm::LCM* pub_;
-  std::unique_ptr<runner::RunSession> session_;
+  std::unique_ptr<system::System> session_;
   int tracked_cameras_ = 1;
   bool use_rotor_ = false, use_thrust_ = false;
   int rotor_count_ = 0;

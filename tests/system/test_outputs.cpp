@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "runner/run_outputs.h"
+#include "vid_system/outputs.h"
 
-namespace vid::runner {
+namespace vid::system {
 namespace {
 
 namespace fs = std::filesystem;
@@ -93,4 +93,4 @@ TEST(RunOutputs, UnwritableFolderNamesTheFile) {
 }
 
 }  // namespace
-}  // namespace vid::runner
+}  // namespace vid::system

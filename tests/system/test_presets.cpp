@@ -8,16 +8,16 @@
 
 #include "io/errors.h"
 #include "io/strict_yaml.h"
-#include "runner/run_config.h"
+#include "vid_system/config.h"
 
-namespace vid::runner {
+namespace vid::system {
 namespace {
 
 namespace fs = std::filesystem;
 const fs::path kConfig = fs::path(VID_SOURCE_DIR) / "config";
 
 TEST(Presets, EurocIsImuModeWithPublishedCalibration) {
-  const RunConfig cfg = resolve_run_config(kConfig / "euroc", io::DatasetCalibration{});
+  const SystemConfig cfg = resolve_config(kConfig / "euroc", io::DatasetCalibration{});
   ASSERT_TRUE(cfg.preset_mode.has_value());
   EXPECT_EQ(*cfg.preset_mode, PropagationMode::kImu);
   ASSERT_EQ(cfg.cameras.size(), 2u);
@@ -63,7 +63,7 @@ TEST(Presets, EurocIsImuModeWithPublishedCalibration) {
 }
 
 TEST(Presets, VidDatasetIsDynamicsModeWithPublishedCalibration) {
-  const RunConfig cfg = resolve_run_config(kConfig / "vid_dataset", io::DatasetCalibration{});
+  const SystemConfig cfg = resolve_config(kConfig / "vid_dataset", io::DatasetCalibration{});
   ASSERT_TRUE(cfg.preset_mode.has_value());
   EXPECT_EQ(*cfg.preset_mode, PropagationMode::kDynamics);
   ASSERT_EQ(cfg.cameras.size(), 2u);
@@ -86,7 +86,7 @@ TEST(Presets, VidDatasetIsDynamicsModeWithPublishedCalibration) {
 }
 
 TEST(Presets, SimMatchesTheSimulatorNoiseAndLeavesModeToTheData) {
-  const RunConfig cfg = resolve_run_config(kConfig / "sim", io::DatasetCalibration{});
+  const SystemConfig cfg = resolve_config(kConfig / "sim", io::DatasetCalibration{});
   EXPECT_FALSE(cfg.preset_mode.has_value());  // euroc_like (no rotor) must run in imu mode
   EXPECT_TRUE(cfg.cameras.empty());           // cameras come from the simulated folder
   EXPECT_NE(cfg.sources.at("estimator"), "defaults");
@@ -111,7 +111,7 @@ TEST(Presets, DatasetImuCalibrationOverridesPresetNoise) {
   imu.accel_random_walk = 0.0456;
   imu.rate_hz = 250.0;
   ds.imu = imu;
-  const RunConfig cfg = resolve_run_config(kConfig / "sim", ds);
+  const SystemConfig cfg = resolve_config(kConfig / "sim", ds);
   EXPECT_DOUBLE_EQ(cfg.estimator.gyro_noise_density, 0.123);
   EXPECT_DOUBLE_EQ(cfg.estimator.accel_random_walk, 0.0456);
   EXPECT_DOUBLE_EQ(cfg.estimator.imu_rate_hz, 250.0);
@@ -121,21 +121,21 @@ TEST(Presets, EstimatorFileWithoutModeKeyLeavesModeOpen) {
   const fs::path dir = fs::temp_directory_path() / "vid_run_test_preset_nomode";
   fs::create_directories(dir);
   std::ofstream(dir / "estimator.yaml") << "window_size: 7\n";
-  const RunConfig cfg = resolve_run_config(dir / "estimator.yaml", io::DatasetCalibration{});
+  const SystemConfig cfg = resolve_config(dir / "estimator.yaml", io::DatasetCalibration{});
   EXPECT_FALSE(cfg.preset_mode.has_value());
   EXPECT_EQ(cfg.estimator.window_size, 7);
   std::ofstream(dir / "estimator.yaml") << "mode: imu\n";
-  EXPECT_EQ(resolve_run_config(dir, io::DatasetCalibration{}).preset_mode, PropagationMode::kImu);
+  EXPECT_EQ(resolve_config(dir, io::DatasetCalibration{}).preset_mode, PropagationMode::kImu);
   fs::remove_all(dir);
 }
 
 TEST(Presets, BadPresetPathsAreConfigErrors) {
-  EXPECT_THROW(resolve_run_config(kConfig / "no_such_preset", io::DatasetCalibration{}), io::ConfigError);
+  EXPECT_THROW(resolve_config(kConfig / "no_such_preset", io::DatasetCalibration{}), io::ConfigError);
   // A folder without any preset file (e.g. a mistyped parent folder) is refused, not ignored.
   const fs::path empty = fs::temp_directory_path() / "vid_run_test_preset_empty";
   fs::create_directories(empty);
   try {
-    resolve_run_config(empty, io::DatasetCalibration{});
+    resolve_config(empty, io::DatasetCalibration{});
     ADD_FAILURE() << "no exception";
   } catch (const io::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("not a preset"), std::string::npos) << e.what();
@@ -146,7 +146,7 @@ TEST(Presets, BadPresetPathsAreConfigErrors) {
   fs::create_directories(dir);
   std::ofstream(dir / "estimator.yaml") << "windw_size: 7\n";
   try {
-    resolve_run_config(dir, io::DatasetCalibration{});
+    resolve_config(dir, io::DatasetCalibration{});
     ADD_FAILURE() << "no exception";
   } catch (const io::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("windw_size"), std::string::npos) << e.what();
@@ -155,4 +155,4 @@ TEST(Presets, BadPresetPathsAreConfigErrors) {
 }
 
 }  // namespace
-}  // namespace vid::runner
+}  // namespace vid::system

@@ -1,19 +1,17 @@
 #pragma once
-/// @file runner.h
-/// @brief vid_run's wiring: dataset reader -> (KLT frontend | feat0 undistortion) ->
-/// estimator pipeline -> outputs (docs/formats.md §2), with timing, counters and metrics.
+/// @file dataset_run.h
+/// @brief vid_run over a dataset folder: the reader (images decoded ahead) feeds a
+/// vid::system::System; progress, interruption and the dataset's fields of summary.json.
 
 #include <atomic>
 #include <filesystem>
 #include <optional>
 #include <string>
 
+#include "vid_system/config.h"
 #include "vio_core/estimator_params.h"
 
-namespace vid::runner {
-
-/// @brief Where features come from.
-enum class FeatureSource { kAuto, kImages, kFeat0 };
+namespace vid::app {
 
 /// @brief The command-line options of vid_run.
 struct RunOptions {
@@ -22,7 +20,7 @@ struct RunOptions {
   std::optional<std::filesystem::path> config;
   std::optional<PropagationMode> mode;   ///< default: dynamics when rotor0/thrust0 exist
   std::optional<InitMode> init;          ///< default: the config's init_mode
-  FeatureSource features = FeatureSource::kAuto;
+  system::FeatureSource features = system::FeatureSource::kAuto;
   double start_s = 0.0;                  ///< relative to the first measurement
   double end_s = -1.0;                   ///< <0: to the end
   bool progress = true;
@@ -40,4 +38,4 @@ enum class RunResult { kOk = 0, kDiverged = 3, kInterrupted = 130 };
 /// @throws io::DatasetError / io::ConfigError / std::runtime_error on bad input
 RunResult run(const RunOptions& options, const std::atomic<bool>& stop);
 
-}  // namespace vid::runner
+}  // namespace vid::app

@@ -1,5 +1,5 @@
 #pragma once
-/// @file run_summary.h
+/// @file summary.h
 /// @brief Accumulates per-frame stage times and writes summary.json (docs/formats.md §2).
 
 #include <filesystem>
@@ -9,9 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "runner/run_outputs.h"
+#include "vid_system/outputs.h"
+#include "vio_core/pipeline.h"
 
-namespace vid::runner {
+namespace vid::system {
 
 /// @brief mean / median / p99 / max of a sample [ms].
 nlohmann::json stage_stats(std::vector<double> values);
@@ -38,7 +39,14 @@ double process_cpu_s();
 /// grow when other processes compete for the cores (the machine the timings come from is shared).
 double thread_cpu_ms();
 
+/// @brief Add the counters of @p b to @p a (estimators of one run, before and after a restart).
+void add_counters(PipelineCounters& a, const PipelineCounters& b);
+
+/// @brief What happened to the accelerometer samples: rejected count, fraction and time spans,
+/// and the force jumps (summary.json "accel"). Spans and jumps list at most 200 entries each.
+nlohmann::json accel_report(const PipelineCounters& c);
+
 /// @brief Write @p summary to DIR/summary.json (pretty, flushed).
 void write_summary(const std::filesystem::path& out_dir, const nlohmann::json& summary);
 
-}  // namespace vid::runner
+}  // namespace vid::system

@@ -1,5 +1,5 @@
 #pragma once
-/// @file run_outputs.h
+/// @file outputs.h
 /// @brief Writers of the estimator-run outputs of docs/formats.md §2. Every row is flushed, so an
 /// interrupted run keeps everything it had written.
 
@@ -11,7 +11,7 @@
 
 #include "vio_core/measurements.h"
 
-namespace vid::runner {
+namespace vid::system {
 
 /// @brief One estimate as written to the outputs (IMU rate).
 struct EstimateRow {
@@ -75,4 +75,4 @@ std::string force_csv_header();
 /// @brief Header line of timing.csv.
 std::string timing_csv_header();
 
-}  // namespace vid::runner
+}  // namespace vid::system

@@ -1,4 +1,4 @@
-#include "runner/run_outputs.h"
+#include "vid_system/outputs.h"
 
 #include <cerrno>
 #include <cstring>
@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-namespace vid::runner {
+namespace vid::system {
 
 FlushedFile::FlushedFile(const std::filesystem::path& path) : path_(path) {
   f_ = std::fopen(path.c_str(), "w");
@@ -103,4 +103,4 @@ void RunOutputs::close() {
   timing_.close();
 }
 
-}  // namespace vid::runner
+}  // namespace vid::system

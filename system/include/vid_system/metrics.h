@@ -1,6 +1,6 @@
 #pragma once
-/// @file run_metrics.h
-/// @brief ATE (posyaw) and external-force RMSE computed by vid_run for summary.json. The
+/// @file metrics.h
+/// @brief ATE (posyaw) and external-force RMSE of a run (summary.json, and the C++ tests). The
 /// association and alignment follow vid_eval (evo's nearest-timestamp rule, closed-form
 /// 4-DoF alignment) so the two agree on the same files.
 
@@ -10,7 +10,7 @@
 
 #include "vio_core/measurements.h"
 
-namespace vid::runner {
+namespace vid::system {
 
 /// @brief A time series of 3-vectors.
 struct Vec3Series {
@@ -52,4 +52,4 @@ Vec3Series world_to_body(const Vec3Series& f_W, const std::vector<TimeNs>& t_R,
 /// @brief Mass at time t from a mass series: linear interpolation, held outside its span.
 double mass_at(const std::vector<TimeNs>& t_ns, const std::vector<double>& mass_kg, TimeNs t);
 
-}  // namespace vid::runner
+}  // namespace vid::system

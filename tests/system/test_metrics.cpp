@@ -5,10 +5,10 @@
 #include <cmath>
 #include <random>
 
-#include "runner/run_metrics.h"
-#include "runner/run_summary.h"
+#include "vid_system/metrics.h"
+#include "vid_system/summary.h"
 
-namespace vid::runner {
+namespace vid::system {
 namespace {
 
 TEST(Association, NearestWithinToleranceTiesToEarlier) {
@@ -152,4 +152,4 @@ TEST(StageStats, NearestRankQuantiles) {
 }
 
 }  // namespace
-}  // namespace vid::runner
+}  // namespace vid::system

@@ -1,11 +1,11 @@
-#include "runner/run_metrics.h"
+#include "vid_system/metrics.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-namespace vid::runner {
+namespace vid::system {
 
 namespace {
 /// For each of a (sorted) the nearest of sorted b within tol; ties go to the earlier sample.
@@ -105,4 +105,4 @@ double mass_at(const std::vector<TimeNs>& t_ns, const std::vector<double>& mass_
   return mass_kg[j - 1] + w * (mass_kg[j] - mass_kg[j - 1]);
 }
 
-}  // namespace vid::runner
+}  // namespace vid::system

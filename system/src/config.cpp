@@ -1,6 +1,7 @@
-#include "runner/run_config.h"
+#include "vid_system/config.h"
 
 #include <sstream>
+#include <stdexcept>
 
 #include "frontend/frontend_params_yaml.h"
 #include "io/errors.h"
@@ -9,12 +10,12 @@
 #include "io/sensor_yaml.h"
 #include "io/strict_yaml.h"
 
-namespace vid::runner {
+namespace vid::system {
 
 namespace fs = std::filesystem;
 
-RunConfig resolve_run_config(const std::optional<fs::path>& config, const io::DatasetCalibration& dataset) {
-  RunConfig cfg;
+SystemConfig resolve_config(const std::optional<fs::path>& config, const io::DatasetCalibration& dataset) {
+  SystemConfig cfg;
   cfg.sources["estimator"] = "defaults";
   cfg.sources["frontend"] = "defaults";
   cfg.cameras = dataset.cameras;
@@ -89,9 +90,12 @@ RunConfig resolve_run_config(const std::optional<fs::path>& config, const io::Da
   return cfg;
 }
 
-std::string describe(const RunConfig& cfg) {
+std::string describe(const SystemConfig& cfg) {
   std::ostringstream os;
-  os << "# estimator (" << cfg.sources.at("estimator") << ")\n" << io::to_yaml(cfg.estimator) << "\n";
+  // Parameters built in code (tests) name no file.
+  const auto source = cfg.sources.find("estimator");
+  os << "# estimator (" << (source != cfg.sources.end() ? source->second : "parameters") << ")\n"
+     << io::to_yaml(cfg.estimator) << "\n";
   for (const auto& cam : cfg.cameras) os << "# cam" << cam.cam_id << "\n" << cam << "\n";
   if (cfg.imu) os << "# imu\n" << *cfg.imu << "\n";
   if (cfg.rotor) os << "# rotor\n" << *cfg.rotor << "\n";
@@ -99,4 +103,38 @@ std::string describe(const RunConfig& cfg) {
   return os.str();
 }
 
-}  // namespace vid::runner
+SystemParams make_system_params(const SystemOptions& opt, const io::DatasetCalibration& calibration) {
+  SystemParams p;
+  p.config = resolve_config(opt.config, calibration);
+  p.features = opt.features;
+  p.out_dir = opt.out_dir;
+  p.truth_vehicle = calibration.vehicle;
+  SystemConfig& cfg = p.config;
+  const bool thrust_data = opt.has_rotor || opt.has_thrust;
+  // Mode: the flag, else the preset's explicit `mode:`, else dynamics when thrust information exists.
+  p.mode_source = "flag --mode";
+  if (opt.mode) {
+    cfg.estimator.mode = *opt.mode;
+  } else if (cfg.preset_mode) {
+    cfg.estimator.mode = *cfg.preset_mode;
+    p.mode_source = cfg.sources.at("estimator");
+  } else {
+    cfg.estimator.mode = thrust_data ? PropagationMode::kDynamics : PropagationMode::kImu;
+    p.mode_source = thrust_data ? "auto (rotor/thrust data present)" : "auto (no rotor/thrust data)";
+  }
+  if (opt.init) cfg.estimator.init_mode = *opt.init;
+  const bool dynamics = cfg.estimator.mode == PropagationMode::kDynamics;
+  if (dynamics && !thrust_data)
+    throw std::runtime_error(opt.context +
+                             ": dynamics mode needs rotor speeds (rotor0/) or thrust (thrust0/), and the dataset has "
+                             "neither; run with --mode imu");
+  if (dynamics && (!cfg.vehicle || (opt.has_rotor && cfg.vehicle->rotor_thrust_coefficients.empty())))
+    throw std::runtime_error(opt.context +
+                             ": dynamics mode needs vehicle.yaml (mass_kg, rotor_thrust_coefficients) in the dataset or "
+                             "the --config preset");
+  if (cfg.cameras.empty())
+    throw std::runtime_error(opt.context + ": no camera calibration (camN/sensor.yaml or --config camchain.yaml)");
+  return p;
+}
+
+}  // namespace vid::system

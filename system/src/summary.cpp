@@ -1,4 +1,4 @@
-#include "runner/run_summary.h"
+#include "vid_system/summary.h"
 
 #include <sys/resource.h>
 #include <time.h>
@@ -9,7 +9,7 @@
 #include <numeric>
 #include <stdexcept>
 
-namespace vid::runner {
+namespace vid::system {
 
 nlohmann::json stage_stats(std::vector<double> v) {
   nlohmann::json j;
@@ -78,4 +78,4 @@ void write_summary(const std::filesystem::path& out_dir, const nlohmann::json& s
   if (!f) throw std::runtime_error(path.string() + ": write failed");
 }
 
-}  // namespace vid::runner
+}  // namespace vid::system

@@ -1,11 +1,14 @@
 #pragma once
-// Run the pipeline on a simulator folder (docs/formats.md §1, feature level) read with
-// vid::io::DatasetReader; undistort features with vid::CameraModel; evaluate against the
-// folder's ground truth (ATE with position+yaw alignment, world force RMSE).
+// Run the estimator system (vid_system) on a simulator folder (docs/formats.md §1, feature
+// level) read with vid::io::DatasetReader, with parameters built in code (sim_params), and
+// evaluate against the folder's ground truth (the library's ATE with position+yaw alignment,
+// world force RMSE).
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "io/dataset_reader.h"
+#include "vid_system/config.h"
 #include "vio_core/estimator_params.h"
 
 namespace vid::test {
@@ -36,9 +39,17 @@ std::filesystem::path ensure_sim_dataset(const std::string& preset, int seed, do
 /// Filter noise for exact (noise: false) simulator data.
 void set_noise_free_params(EstimatorParams& p);
 
-/// Run one mode over the folder; ground-truth initialization.
+/// The System's parameters on simulator folders: the folder's own cameras, IMU, rotor and
+/// vehicle calibration, feat0 features, ground-truth initialization, the thrust noise from the
+/// rotor-speed noise at hover, 0.5 px feature noise (the presets'), estimator defaults otherwise.
+/// Change the returned parameters in code to diagnose (vio_core_diag_sim).
+system::SystemParams sim_params(const io::DatasetCalibration& cal, PropagationMode mode);
+
+/// Run one mode over the folder with sim_params; ground-truth initialization.
 /// noise_free: filter noise of set_noise_free_params (for exact data).
 SimMetrics run_on_dataset(const std::filesystem::path& folder, PropagationMode mode, bool noise_free = false);
+/// Run the folder with the given parameters (sim_params, changed); ground truth is pushed.
+SimMetrics run_on_dataset(const std::filesystem::path& folder, const system::SystemParams& params);
 
 /// @brief NEES (3 dof each) of orientation, position and body-frame F_ext at 10 Hz ground-truth
 /// times; F is 0 in imu mode.

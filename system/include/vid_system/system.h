@@ -1,0 +1,149 @@
+#pragma once
+/// @file system.h
+/// @brief The estimator system: (KLT frontend on images | feat0 undistortion) -> estimator
+/// pipeline -> docs/formats.md §2 outputs, timings, counters and metrics, fed push-style one
+/// measurement at a time. vid_run drives it from a dataset reader, vid_live from LCM, the
+/// accuracy tests from simulator folders. The data flow reads top to bottom in system.cpp.
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+
+#include "vid_system/config.h"
+#include "vid_system/metrics.h"
+#include "vid_system/outputs.h"
+#include "vid_system/summary.h"
+#include "vio_core/pipeline.h"
+
+namespace vid {
+class CameraModel;
+}  // namespace vid
+
+namespace vid::system {
+
+class FrontendStage;
+
+/// @brief One camera frame as decoded 8-bit mono images (right empty for mono).
+struct StereoFrame {
+  TimeNs t_ns = 0;
+  cv::Mat left;
+  cv::Mat right;
+};
+
+/// @brief One estimator run, fed push-style. Not thread-safe: one thread pushes. Observers are
+/// called on the pushing thread, inside push() / finish().
+class System {
+ public:
+  /// @throws std::runtime_error when the parameters cannot run (no camera)
+  explicit System(SystemParams params);
+  ~System();
+  System(const System&) = delete;
+  System& operator=(const System&) = delete;
+
+  // --- Input, in time order -------------------------------------------------------------------
+  void push(const ImuSample& s);
+  void push(const RotorSample& s);
+  void push(const ThrustSample& s);
+  /// @brief A camera frame by image paths, decoded here: an unreadable or wrongly sized image
+  /// skips its frame (counted in summary.json).
+  void push(const ImageFrame& frame);
+  /// @brief A camera frame as decoded images; checked and counted as push(ImageFrame).
+  void push(const StereoFrame& frame);
+  /// @brief Feature observations (feat0); undistorted here when they lack normalized coordinates.
+  void push(const FeatureFrame& frame);
+  /// @brief Ground truth: kept for the metrics and passed on (ground-truth initialization).
+  void push(const GroundTruthSample& s);
+  void push(const ForceSample& s);
+  void push(const MassSample& s);
+  /// @brief Any measurement (dispatches to the typed push).
+  void push(const Measurement& m);
+  /// @brief A camera frame whose images were decoded elsewhere (a decode-ahead thread):
+  /// @p images are (cam_id, decode_gray8 image) of the frame's cam 0 / cam 1 images in the
+  /// frame's order; checked, counted and tracked exactly as push(ImageFrame) does.
+  /// @param decode_ms, decode_cpu_ms  wall / CPU time the decoding took (for summary.json)
+  void push_decoded(const ImageFrame& frame, const std::vector<std::pair<int, cv::Mat>>& images, double decode_ms,
+                    double decode_cpu_ms);
+  /// @brief Account decoding CPU time of frames that were decoded ahead but never pushed (the
+  /// run stopped first), so that the CPU time "excluding decoding" stays free of it.
+  void add_unused_decode_cpu_ms(double ms);
+  /// @brief Start the filter at @p x with covariance @p P_imu instead of its own initializer.
+  void initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu);
+  /// @brief End of stream: process everything still queued.
+  void finish();
+  /// @brief Replace the estimator (and tracker) by fresh ones after divergence; outputs,
+  /// counters and metrics continue.
+  void restart();
+
+  // --- Observers ------------------------------------------------------------------------------
+  /// @brief Every estimate (state, covariance blocks, force), after it was written to the outputs.
+  void on_estimate(std::function<void(const EstimateOutput&)> cb) { on_estimate_ = std::move(cb); }
+  /// @brief Every camera frame the pipeline processed, after timing.csv got its row.
+  void on_frame(std::function<void(const FrameTimings&)> cb) { on_frame_ = std::move(cb); }
+  /// @brief Every change of the filter status (initialized, diverged, ...), with its message.
+  void on_status(std::function<void(FilterStatus, const std::string&)> cb) { on_status_ = std::move(cb); }
+
+  // --- State and results ----------------------------------------------------------------------
+  FilterStatus status() const;
+  const std::string& status_message() const;
+  /// @brief Counters of every estimator of the run (also those replaced by restart()).
+  PipelineCounters counters() const;
+  /// @brief The parameters (mode and init decided).
+  const SystemParams& params() const { return p_; }
+  const SystemConfig& config() const { return p_.config; }
+  /// @brief True in dynamics mode (force estimated).
+  bool dynamics() const { return p_.config.estimator.mode == PropagationMode::kDynamics; }
+  int restarts() const { return restarts_; }
+  /// @brief Camera frames pushed (also those skipped for a bad image).
+  long camera_frames() const { return frames_; }
+  long feature_frames() const { return feature_frames_; }
+  long estimates() const { return estimates_; }
+  /// @brief Camera ids the frontend tracks (0 with feat0 input; images of other cameras are ignored).
+  int tracked_cameras() const;
+
+  /// @brief summary.json fields of the run so far: mode, init, features, status, counts,
+  /// timing, cpu, config, and ATE / force RMSE when ground truth was pushed. The caller adds
+  /// its own fields (input, data duration, wall time) and writes it (write_summary).
+  nlohmann::json summary() const;
+  /// @brief Close the output files (also done by the destructor).
+  void close_outputs();
+
+ private:
+  void build_estimator();
+  void to_pipeline(Measurement m);
+  void report_status();
+  void track(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right);
+  void estimate_out(const EstimateOutput& e);
+  void frame_out(const FrameTimings& ft);
+  void warn_image(const std::string& msg);
+
+  SystemParams p_;
+  std::unique_ptr<Pipeline> pipeline_;
+  std::unique_ptr<FrontendStage> frontend_;
+  std::vector<std::unique_ptr<CameraModel>> models_;  ///< feat0 undistortion
+  std::optional<RunOutputs> outputs_;
+  FilterStatus last_status_ = FilterStatus::kWaitingForInit;
+  StageTimes stage_times_;
+  std::map<TimeNs, double> tracking_ms_;
+  Vec3Series est_p_, est_f_W_, est_f_I_, gt_p_, gt_f_W_;
+  std::vector<Eigen::Matrix3d> gt_R_WI_;  ///< at gt_p_.t_ns, for the body-frame force figure
+  std::vector<TimeNs> mass_t_;
+  std::vector<double> mass_kg_;
+  PipelineCounters past_counters_;  ///< counters of estimators replaced by restart()
+  long estimates_ = 0, frames_ = 0, feature_frames_ = 0, images_unreadable_ = 0, images_wrong_size_ = 0;
+  int restarts_ = 0;
+  int image_warnings_ = 0;
+  std::vector<double> decode_ms_, tracking_cpu_ms_;
+  double decode_cpu_ms_ = 0.0;
+  double cpu_start_s_ = 0.0;
+  std::function<void(const EstimateOutput&)> on_estimate_;
+  std::function<void(const FrameTimings&)> on_frame_;
+  std::function<void(FilterStatus, const std::string&)> on_status_;
+};
+
+}  // namespace vid::system

@@ -1,0 +1,279 @@
+// The estimator system's data flow, top to bottom (system.h):
+//
+//   ImuSample ------------------------------> frontend (gyro prediction) + pipeline
+//   RotorSample / ThrustSample -------------> pipeline
+//   ImageFrame (paths) -> decode -+
+//   push_decoded (decoded ahead) -+-> image checks -> frontend (KLT) -> FeatureFrame -> pipeline
+//   StereoFrame (decoded) --------+
+//   FeatureFrame (feat0) -> undistortion ---------------------------------------> pipeline
+//   GroundTruthSample / ForceSample / MassSample -> metrics' truth series ----> pipeline
+//
+//   pipeline -> estimate -> state.csv / force.csv / trajectory_tum.txt, metrics' series, observer
+//            -> frame timings -> timing.csv, stage statistics, observer
+//            -> status changes -> observer
+//
+// summary.json's fields are assembled in system_summary.cpp.
+#include "vid_system/system.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+
+#include "frontend/camera_model.h"
+#include "frontend/image_decode.h"
+#include "vid_system/frontend_stage.h"
+
+namespace vid::system {
+
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+EstimateRow to_row(const EstimateOutput& e) {
+  EstimateRow r;
+  r.t_ns = e.t_ns;
+  r.q_WI = e.x.q_WI;
+  r.p_WI = e.x.p_WI;
+  r.v_WI = e.x.v_WI;
+  r.b_g = e.x.b_g;
+  r.b_a = e.x.b_a;
+  r.F_ext_I = e.F_ext_I;
+  const int n = std::min<int>(18, static_cast<int>(e.sigma.size()));
+  r.sigma.head(n) = e.sigma.head(n);
+  // The force sigma is reported in the body frame whatever frame the filter's force state uses.
+  if (n == 18) r.sigma.tail<3>() = e.cov_F_I.diagonal().cwiseMax(0.0).cwiseSqrt();
+  return r;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Construction: feat0 undistortion or the KLT frontend, the pipeline, the output files.
+
+System::System(SystemParams params) : p_(std::move(params)), cpu_start_s_(process_cpu_s()) {
+  if (p_.config.cameras.empty()) throw std::runtime_error("System: no camera calibration");
+  if (p_.features == FeatureSource::kFeat0)
+    for (const auto& cam : p_.config.cameras) models_.push_back(CameraModel::create(cam));
+  build_estimator();
+  if (p_.out_dir) outputs_.emplace(*p_.out_dir, dynamics());
+}
+
+System::~System() = default;
+
+void System::build_estimator() {
+  PipelineConfig pcfg;
+  pcfg.params = p_.config.estimator;
+  pcfg.vehicle = p_.config.vehicle.value_or(VehicleParams{});
+  pcfg.cameras = p_.config.cameras;
+  pipeline_ = std::make_unique<Pipeline>(pcfg);
+  pipeline_->set_estimate_callback([this](const EstimateOutput& e) { estimate_out(e); });
+  pipeline_->set_frame_callback([this](const FrameTimings& ft) { frame_out(ft); });
+  if (p_.features != FeatureSource::kFeat0)
+    frontend_ = std::make_unique<FrontendStage>(p_.config.frontend, p_.config.cameras);
+  last_status_ = pipeline_->status();
+}
+
+void System::restart() {
+  add_counters(past_counters_, pipeline_->counters());
+  tracking_ms_.clear();
+  build_estimator();
+  ++restarts_;
+}
+
+void System::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu) {
+  pipeline_->initialize(t_ns, x, P_imu);
+  report_status();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Input
+
+void System::push(const Measurement& m) {
+  std::visit([this](const auto& x) { push(x); }, m);
+}
+
+void System::push(const ImuSample& s) {
+  if (frontend_) frontend_->add_imu(s);
+  to_pipeline(s);
+}
+
+void System::push(const RotorSample& s) { to_pipeline(s); }
+void System::push(const ThrustSample& s) { to_pipeline(s); }
+
+void System::push(const GroundTruthSample& s) {
+  gt_p_.t_ns.push_back(s.t_ns);
+  gt_p_.v.push_back(s.p_WI);
+  gt_R_WI_.push_back(s.q_WI.toRotationMatrix());
+  to_pipeline(s);
+}
+
+void System::push(const ForceSample& s) {
+  gt_f_W_.t_ns.push_back(s.t_ns);
+  gt_f_W_.v.push_back(s.f_W_N);  // divided by the mass in summary()
+  to_pipeline(s);
+}
+
+void System::push(const MassSample& s) {
+  mass_t_.push_back(s.t_ns);
+  mass_kg_.push_back(s.mass_kg);
+  to_pipeline(s);
+}
+
+void System::push(const FeatureFrame& frame) {
+  ++feature_frames_;
+  FeatureFrame f = frame;
+  for (auto& o : f.observations) {
+    if (o.has_norm || o.cam_id < 0 || o.cam_id >= static_cast<int>(models_.size())) continue;
+    o.has_norm = models_[static_cast<std::size_t>(o.cam_id)]->undistort(o.uv, &o.uv_norm);
+  }
+  to_pipeline(std::move(f));
+}
+
+void System::push(const ImageFrame& frame) {
+  const auto t_decode = Clock::now();
+  const double cpu_decode = thread_cpu_ms();
+  std::vector<std::pair<int, cv::Mat>> images;
+  for (const auto& ref : frame.images)
+    if (ref.cam_id <= 1) images.emplace_back(ref.cam_id, decode_gray8(ref.path));
+  push_decoded(frame, images, ms_since(t_decode), thread_cpu_ms() - cpu_decode);
+}
+
+void System::push_decoded(const ImageFrame& frame, const std::vector<std::pair<int, cv::Mat>>& images,
+                          double decode_ms, double decode_cpu_ms) {
+  ++frames_;
+  decode_ms_.push_back(decode_ms);
+  decode_cpu_ms_ += decode_cpu_ms;
+  const auto& cameras = p_.config.cameras;
+  cv::Mat left, right;
+  bool ok = true;
+  std::size_t k = 0;
+  for (const auto& ref : frame.images) {
+    if (ref.cam_id > 1) continue;
+    if (k >= images.size() || images[k].first != ref.cam_id)
+      throw std::logic_error(ref.path + ": decoded images do not match the frame's image list");
+    const cv::Mat& g = images[k++].second;
+    const CameraCalib& cam = cameras.at(std::min<std::size_t>(ref.cam_id, cameras.size() - 1));
+    if (g.empty()) {
+      ++images_unreadable_;
+      warn_image(ref.path + ": unreadable image, frame skipped");
+      ok = false;
+    } else if (g.cols != cam.width || g.rows != cam.height) {
+      ++images_wrong_size_;
+      warn_image(fmt::format("{}: image is {}x{}, calibration says {}x{}; frame skipped", ref.path, g.cols, g.rows,
+                             cam.width, cam.height));
+      ok = false;
+    }
+    (ref.cam_id == 0 ? left : right) = g;
+  }
+  if (ok && !left.empty()) track(frame.t_ns, left, right);
+}
+
+void System::add_unused_decode_cpu_ms(double ms) { decode_cpu_ms_ += ms; }
+
+void System::push(const StereoFrame& frame) {
+  ++frames_;
+  const auto& cameras = p_.config.cameras;
+  bool ok = true;
+  for (int cam_id = 0; cam_id < 2; ++cam_id) {
+    const cv::Mat& g = cam_id == 0 ? frame.left : frame.right;
+    if (g.empty()) continue;
+    const CameraCalib& cam = cameras.at(std::min<std::size_t>(cam_id, cameras.size() - 1));
+    if (g.type() != CV_8UC1) {
+      ++images_unreadable_;
+      warn_image(fmt::format("camera {} image at {} ns is not 8-bit mono; frame skipped", cam_id, frame.t_ns));
+      ok = false;
+    } else if (g.cols != cam.width || g.rows != cam.height) {
+      ++images_wrong_size_;
+      warn_image(fmt::format("camera {} image at {} ns: image is {}x{}, calibration says {}x{}; frame skipped", cam_id,
+                             frame.t_ns, g.cols, g.rows, cam.width, cam.height));
+      ok = false;
+    }
+  }
+  if (ok && !frame.left.empty()) track(frame.t_ns, frame.left, frame.right);
+}
+
+void System::warn_image(const std::string& msg) {
+  if (++image_warnings_ <= 10) spdlog::warn("{}", msg);
+  if (image_warnings_ == 10) spdlog::warn("further warnings of this kind are only counted (see summary.json)");
+}
+
+// Frontend: KLT tracks of a checked frame become the pipeline's feature frame.
+void System::track(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right) {
+  if (!frontend_) return;
+  const auto t_track = Clock::now();
+  const double cpu_track = thread_cpu_ms();
+  FeatureFrame ff = frontend_->track(t_ns, left, right);
+  tracking_ms_[t_ns] = ms_since(t_track);
+  tracking_cpu_ms_.push_back(thread_cpu_ms() - cpu_track);
+  to_pipeline(std::move(ff));
+}
+
+// Estimator: every measurement enters the pipeline here; status changes go to the observer.
+void System::to_pipeline(Measurement m) {
+  pipeline_->push(m);
+  report_status();
+}
+
+void System::finish() {
+  pipeline_->finish();
+  report_status();
+}
+
+void System::report_status() {
+  const FilterStatus now = pipeline_->status();
+  if (now == last_status_) return;
+  last_status_ = now;
+  if (on_status_) on_status_(now, pipeline_->status_message());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output
+
+void System::estimate_out(const EstimateOutput& e) {
+  const EstimateRow row = to_row(e);
+  if (outputs_) outputs_->write_estimate(row);
+  ++estimates_;
+  est_p_.t_ns.push_back(row.t_ns);
+  est_p_.v.push_back(row.p_WI);
+  if (dynamics()) {
+    est_f_W_.t_ns.push_back(row.t_ns);
+    est_f_W_.v.push_back(e.F_ext_W);
+    est_f_I_.t_ns.push_back(row.t_ns);
+    est_f_I_.v.push_back(e.F_ext_I);
+  }
+  if (on_estimate_) on_estimate_(e);
+}
+
+void System::frame_out(const FrameTimings& ft) {
+  TimingRow row;
+  row.t_ns = ft.t_ns;
+  if (auto it = tracking_ms_.find(ft.t_ns); it != tracking_ms_.end()) {
+    row.tracking_ms = it->second;
+    tracking_ms_.erase(tracking_ms_.begin(), std::next(it));
+  }
+  row.propagation_ms = ft.propagation_ms;
+  row.accel_update_ms = ft.accel_update_ms;
+  row.msckf_update_ms = ft.msckf_update_ms;
+  row.marginalization_ms = ft.marginalization_ms;
+  row.total_ms =
+      row.tracking_ms + row.propagation_ms + row.accel_update_ms + row.msckf_update_ms + row.marginalization_ms;
+  if (outputs_) outputs_->write_timing(row);
+  stage_times_.add(row);
+  if (on_frame_) on_frame_(ft);
+}
+
+void System::close_outputs() {
+  if (outputs_) outputs_->close();
+}
+
+FilterStatus System::status() const { return pipeline_->status(); }
+const std::string& System::status_message() const { return pipeline_->status_message(); }
+int System::tracked_cameras() const { return frontend_ ? frontend_->cameras() : 0; }
+
+}  // namespace vid::system

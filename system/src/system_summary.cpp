@@ -1,0 +1,138 @@
+// System::summary(): summary.json's fields of a run (docs/formats.md §2), with the metrics
+// against the ground truth pushed.
+#include <cmath>
+
+#include "vid_system/system.h"
+
+namespace vid::system {
+
+void add_counters(PipelineCounters& a, const PipelineCounters& b) {
+  a.imu_samples += b.imu_samples;
+  a.accel_updates += b.accel_updates;
+  a.accel_rejected += b.accel_rejected;
+  a.accel_used_in_jumps += b.accel_used_in_jumps;
+  a.force_jumps += b.force_jumps;
+  a.accel_rejected_spans.insert(a.accel_rejected_spans.end(), b.accel_rejected_spans.begin(),
+                                b.accel_rejected_spans.end());
+  a.force_jump_events.insert(a.force_jump_events.end(), b.force_jump_events.begin(), b.force_jump_events.end());
+  a.rotor_gap_samples += b.rotor_gap_samples;
+  a.imu_gaps += b.imu_gaps;
+  a.frames += b.frames;
+  a.frames_skipped += b.frames_skipped;
+  a.visual_updates += b.visual_updates;
+  a.features_used += b.features_used;
+  a.features_rejected += b.features_rejected;
+  a.features_rejected_chi2 += b.features_rejected_chi2;
+  a.features_too_short += b.features_too_short;
+  a.observations_without_norm += b.observations_without_norm;
+}
+
+nlohmann::json accel_report(const PipelineCounters& c) {
+  nlohmann::json j;
+  const long seen = c.accel_updates + c.accel_rejected + c.accel_used_in_jumps;
+  j["samples"] = seen;
+  j["rejected"] = c.accel_rejected;
+  j["rejected_fraction"] = seen > 0 ? static_cast<double>(c.accel_rejected) / static_cast<double>(seen) : 0.0;
+  j["used_in_jumps"] = c.accel_used_in_jumps;
+  j["force_jumps"] = c.force_jumps;
+  double span_s = 0.0;
+  nlohmann::json spans = nlohmann::json::array();
+  for (const TimeSpan& s : c.accel_rejected_spans) {
+    span_s += static_cast<double>(s.last_ns - s.first_ns) * 1e-9;
+    if (spans.size() < 200) spans.push_back({s.first_ns, s.last_ns});
+  }
+  j["rejected_spans_ns"] = spans;
+  j["rejected_span_count"] = c.accel_rejected_spans.size();
+  j["rejected_span_total_s"] = span_s;
+  nlohmann::json jumps = nlohmann::json::array();
+  for (const ForceJumpRecord& r : c.force_jump_events) {
+    if (jumps.size() >= 200) break;
+    jumps.push_back({{"t_ns", r.t_ns}, {"window", r.window}, {"size_mps2", r.size_mps2}});
+  }
+  j["force_jump_events"] = jumps;
+  return j;
+}
+
+PipelineCounters System::counters() const {
+  PipelineCounters c = past_counters_;
+  add_counters(c, pipeline_->counters());
+  return c;
+}
+
+nlohmann::json System::summary() const {
+  const SystemConfig& cfg = p_.config;
+  nlohmann::json s;
+  s["mode"] = to_string(cfg.estimator.mode);
+  s["mode_source"] = p_.mode_source;
+  s["init"] = to_string(cfg.estimator.init_mode);
+  s["features"] = p_.features == FeatureSource::kFeat0 ? "feat0" : "images";
+  s["status"] = to_string(pipeline_->status());
+  s["status_message"] = pipeline_->status_message();
+  const PipelineCounters c = counters();
+  s["counts"] = {{"estimates", estimates_},
+                 {"camera_frames", frames_},
+                 {"feature_frames", feature_frames_},
+                 {"images_unreadable", images_unreadable_},
+                 {"images_wrong_size", images_wrong_size_},
+                 {"frames_skipped_bad_image", images_unreadable_ + images_wrong_size_},
+                 {"imu_samples", c.imu_samples},
+                 {"accel_updates", c.accel_updates},
+                 {"accel_rejected", c.accel_rejected},
+                 {"accel_used_in_jumps", c.accel_used_in_jumps},
+                 {"force_jumps", c.force_jumps},
+                 {"rotor_gap_samples", c.rotor_gap_samples},
+                 {"imu_gaps", c.imu_gaps},
+                 {"frames_processed", c.frames},
+                 {"frames_skipped_by_filter", c.frames_skipped},
+                 {"visual_updates", c.visual_updates},
+                 {"features_used", c.features_used},
+                 {"features_rejected", c.features_rejected}};
+  if (restarts_ > 0) s["counts"]["estimator_restarts"] = restarts_;
+  s["accel"] = accel_report(c);
+  s["timing"] = stage_times_.to_json();  // frontend + estimator stages; excludes image decoding
+  s["timing"]["image_decoding"] = stage_stats(decode_ms_);
+  s["peak_memory_mib"] = peak_memory_mib();
+  // CPU-time view (robust to other processes on a shared machine); the caller adds the
+  // CPU real-time factor, which needs the data duration.
+  const double cpu_s = process_cpu_s() - cpu_start_s_;
+  s["cpu"]["process_cpu_s"] = cpu_s;
+  s["cpu"]["image_decoding_cpu_s"] = decode_cpu_ms_ * 1e-3;
+  s["cpu"]["tracking_cpu"] = stage_stats(tracking_cpu_ms_);
+  s["cpu"]["mean_cpu_ms_per_frame_excluding_decoding"] =
+      c.frames > 0 ? (cpu_s * 1e3 - decode_cpu_ms_) / static_cast<double>(c.frames) : 0.0;
+  s["config"] = describe(cfg);
+  s["config_sources"] = cfg.sources;
+
+  // Metrics against ground truth, with the association and alignment of vid_eval.
+  std::optional<AteResult> ate;
+  if (!gt_p_.t_ns.empty()) ate = ate_posyaw(est_p_, gt_p_);
+  if (ate) {
+    s["ate_posyaw_m"] = ate->rmse_m;
+    s["ate_pairs"] = ate->pairs;
+  }
+  const auto& truth_vehicle = p_.truth_vehicle;
+  if (dynamics() && !gt_f_W_.t_ns.empty() && (!mass_t_.empty() || truth_vehicle)) {
+    Vec3Series gt_f = gt_f_W_;
+    for (std::size_t i = 0; i < gt_f.t_ns.size(); ++i) {
+      const double m = mass_t_.empty() ? truth_vehicle->mass_kg : mass_at(mass_t_, mass_kg_, gt_f.t_ns[i]);
+      gt_f.v[i] /= m;
+    }
+    // The estimator's world has its own heading (yaw is unobservable): the world-frame figure
+    // is taken after rotating the estimate by the ATE's alignment, never without one.
+    std::size_t pairs = 0;
+    if (!ate) {
+      s["force_rmse_world_note"] = "no ground-truth poses to align the estimator's world frame: world-frame force not scored";
+    } else if (auto rmse = force_rmse(rotate_about_z(est_f_W_, ate->yaw_rad), gt_f, &pairs)) {
+      s["force_rmse_world_mps2"] = *rmse;
+      s["force_pairs"] = pairs;
+      s["force_alignment"] = {{"mode", "posyaw"}, {"yaw_deg", ate->yaw_rad * 180.0 / M_PI}};
+    }
+    if (!gt_R_WI_.empty()) {
+      if (auto rmse = force_rmse(est_f_I_, world_to_body(gt_f, gt_p_.t_ns, gt_R_WI_)))
+        s["force_rmse_body_mps2"] = *rmse;
+    }
+  }
+  return s;
+}
+
+}  // namespace vid::system
