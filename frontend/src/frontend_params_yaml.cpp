@@ -1,6 +1,7 @@
 #include "frontend/frontend_params_yaml.h"
 
 #include <array>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -76,7 +77,8 @@ E read_enum(const io::YamlMap& m, const char* key, const std::array<std::pair<co
   std::string choices;
   for (const auto& [name, e] : names) {
     if (s == name) return e;
-    choices += (choices.empty() ? "" : "|") + std::string(name);
+    if (!choices.empty()) choices += '|';
+    choices += name;
   }
   m.fail(key, "expected " + choices + ", got '" + s + "'");
 }
@@ -142,13 +144,13 @@ FrontendParams load_frontend_params(const std::filesystem::path& path) {
 }
 
 std::string to_yaml(const FrontendParams& p) {
-  std::string out;
-  out += std::string("equalization: ") + enum_name(kEqualization, p.equalization) + "\n";
-  out += std::string("ransac: ") + enum_name(kRansac, p.ransac) + "\n";
-  for (const auto& f : kInts) out += std::string(f.key) + ": " + std::to_string(p.*f.member) + "\n";
-  for (const auto& f : kBools) out += std::string(f.key) + ": " + (p.*f.member ? "true" : "false") + "\n";
-  for (const auto& f : kDoubles) out += std::string(f.key) + ": " + io::format_double(p.*f.member) + "\n";
-  return out;
+  std::ostringstream os;
+  os << "equalization: " << enum_name(kEqualization, p.equalization) << "\n"
+     << "ransac: " << enum_name(kRansac, p.ransac) << "\n";
+  for (const auto& f : kInts) os << f.key << ": " << p.*f.member << "\n";
+  for (const auto& f : kBools) os << f.key << ": " << (p.*f.member ? "true" : "false") << "\n";
+  for (const auto& f : kDoubles) os << f.key << ": " << io::format_double(p.*f.member) << "\n";
+  return os.str();
 }
 
 bool operator==(const FrontendParams& a, const FrontendParams& b) {

@@ -40,7 +40,12 @@ ChannelNames load_channels(const std::filesystem::path& yaml_file) {
 
 std::string print(const ChannelNames& c) {
   std::string out;
-  for (const auto& [key, member] : kKeys) out += std::string(key) + ": " + c.*member + "\n";
+  for (const auto& [key, member] : kKeys) {
+    out += key;
+    out += ": ";
+    out += c.*member;
+    out += '\n';
+  }
   return out;
 }
 
