@@ -13,7 +13,6 @@
 #include <ctime>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
@@ -21,6 +20,7 @@
 #include <vector>
 
 #include "frontend/klt_tracker.h"
+#include "io/csv_reader.h"
 #include "synthetic_images.h"
 
 namespace fs = std::filesystem;
@@ -45,14 +45,10 @@ CameraCalib d435(int id, double y) {
 
 std::vector<std::string> list_pngs(const fs::path& csv) {
   std::vector<std::string> out;
-  std::ifstream f(csv);
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    const auto comma = line.find(',');
-    std::string name = line.substr(comma + 1);
-    while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
-    out.push_back((csv.parent_path() / "data" / name).string());
+  io::CsvReader in(csv);
+  while (in.next_row()) {
+    in.expect_columns(2);
+    out.push_back((csv.parent_path() / "data" / std::string(in.field(1))).string());
   }
   return out;
 }

@@ -1,59 +1,104 @@
 #include "frontend/frontend_params_yaml.h"
 
+#include <array>
+#include <sstream>
+#include <string>
+#include <utility>
+
+#include "io/number_format.h"
+
 namespace vid {
 
+namespace {
+
+// One table per field type drives parse, print and ==, so the three cannot drift apart.
+template <typename T>
+struct Field {
+  const char* key;
+  T FrontendParams::*member;
+};
+#define VID_FIELD(name) {#name, &FrontendParams::name}
+const Field<int> kInts[] = {
+    VID_FIELD(num_features),
+    VID_FIELD(grid_cols),
+    VID_FIELD(grid_rows),
+    VID_FIELD(fast_threshold),
+    VID_FIELD(fast_threshold_min),
+    VID_FIELD(border_px),
+    VID_FIELD(detect_cell_retry_frames),
+    VID_FIELD(detect_min_missing),
+    VID_FIELD(clahe_tile),
+    VID_FIELD(lk_levels),
+    VID_FIELD(lk_window),
+    VID_FIELD(lk_max_iterations),
+    VID_FIELD(lk_predicted_max_iterations),
+    VID_FIELD(template_half),
+    VID_FIELD(template_iterations),
+    VID_FIELD(ransac_max_iterations),
+    VID_FIELD(stereo_lk_levels),
+    VID_FIELD(stereo_track_lk_levels),
+};
+const Field<double> kDoubles[] = {
+    VID_FIELD(min_distance_px),
+    VID_FIELD(clahe_clip_limit),
+    VID_FIELD(lk_epsilon),
+    VID_FIELD(lk_predicted_epsilon),
+    VID_FIELD(lk_min_eigen),
+    VID_FIELD(fb_check_px),
+    VID_FIELD(template_epsilon_px),
+    VID_FIELD(template_min_zncc),
+    VID_FIELD(template_max_shift_px),
+    VID_FIELD(ransac_threshold_px),
+    VID_FIELD(ransac_confidence),
+    VID_FIELD(stereo_epipolar_px),
+    VID_FIELD(stereo_fb_check_px),
+    VID_FIELD(stereo_max_disparity_px),
+    VID_FIELD(stereo_min_depth_m),
+};
+const Field<bool> kBools[] = {
+    VID_FIELD(template_refinement),
+    VID_FIELD(stereo),
+    VID_FIELD(gyro_prediction),
+};
+#undef VID_FIELD
+
+constexpr std::array<std::pair<const char*, Equalization>, 3> kEqualization = {
+    {{"none", Equalization::kNone}, {"histogram", Equalization::kHistogram}, {"clahe", Equalization::kClahe}}};
+constexpr std::array<std::pair<const char*, RansacMode>, 3> kRansac = {
+    {{"none", RansacMode::kNone}, {"fundamental", RansacMode::kFundamental}, {"two_point", RansacMode::kTwoPoint}}};
+
+template <typename E, std::size_t N>
+E read_enum(const io::YamlMap& m, const char* key, const std::array<std::pair<const char*, E>, N>& names, E value) {
+  if (!m.has(key)) {
+    m.accept(key);
+    return value;
+  }
+  const std::string s = m.get_string(key);
+  std::string choices;
+  for (const auto& [name, e] : names) {
+    if (s == name) return e;
+    if (!choices.empty()) choices += '|';
+    choices += name;
+  }
+  m.fail(key, "expected " + choices + ", got '" + s + "'");
+}
+
+template <typename E, std::size_t N>
+const char* enum_name(const std::array<std::pair<const char*, E>, N>& names, E value) {
+  for (const auto& [name, e] : names) {
+    if (e == value) return name;
+  }
+  return "?";
+}
+
+}  // namespace
+
 FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p) {
-  p.num_features = m.get_int("num_features", p.num_features);
-  p.grid_cols = m.get_int("grid_cols", p.grid_cols);
-  p.grid_rows = m.get_int("grid_rows", p.grid_rows);
-  p.fast_threshold = m.get_int("fast_threshold", p.fast_threshold);
-  p.fast_threshold_min = m.get_int("fast_threshold_min", p.fast_threshold_min);
-  p.min_distance_px = m.get_double("min_distance_px", p.min_distance_px);
-  p.border_px = m.get_int("border_px", p.border_px);
-  p.detect_min_missing = m.get_int("detect_min_missing", p.detect_min_missing);
-  p.detect_cell_retry_frames = m.get_int("detect_cell_retry_frames", p.detect_cell_retry_frames);
-
-  const std::string eq = m.get_string("equalization", "");
-  if (eq == "none") p.equalization = Equalization::kNone;
-  else if (eq == "histogram") p.equalization = Equalization::kHistogram;
-  else if (eq == "clahe") p.equalization = Equalization::kClahe;
-  else if (!eq.empty()) m.fail("equalization", "expected none|histogram|clahe, got '" + eq + "'");
-  p.clahe_clip_limit = m.get_double("clahe_clip_limit", p.clahe_clip_limit);
-  p.clahe_tile = m.get_int("clahe_tile", p.clahe_tile);
-
-  p.lk_levels = m.get_int("lk_levels", p.lk_levels);
-  p.lk_window = m.get_int("lk_window", p.lk_window);
-  p.lk_max_iterations = m.get_int("lk_max_iterations", p.lk_max_iterations);
-  p.lk_epsilon = m.get_double("lk_epsilon", p.lk_epsilon);
-  p.lk_predicted_max_iterations =
-      m.get_int("lk_predicted_max_iterations", p.lk_predicted_max_iterations);
-  p.lk_predicted_epsilon = m.get_double("lk_predicted_epsilon", p.lk_predicted_epsilon);
-  p.lk_min_eigen = m.get_double("lk_min_eigen", p.lk_min_eigen);
-  p.fb_check_px = m.get_double("fb_check_px", p.fb_check_px);
-  p.template_refinement = m.get_bool("template_refinement", p.template_refinement);
-  p.template_half = m.get_int("template_half", p.template_half);
-  p.template_iterations = m.get_int("template_iterations", p.template_iterations);
-  p.template_epsilon_px = m.get_double("template_epsilon_px", p.template_epsilon_px);
-  p.template_min_zncc = m.get_double("template_min_zncc", p.template_min_zncc);
-  p.template_max_shift_px = m.get_double("template_max_shift_px", p.template_max_shift_px);
-
-  const std::string rs = m.get_string("ransac", "");
-  if (rs == "none") p.ransac = RansacMode::kNone;
-  else if (rs == "fundamental") p.ransac = RansacMode::kFundamental;
-  else if (rs == "two_point") p.ransac = RansacMode::kTwoPoint;
-  else if (!rs.empty()) m.fail("ransac", "expected none|fundamental|two_point, got '" + rs + "'");
-  p.ransac_threshold_px = m.get_double("ransac_threshold_px", p.ransac_threshold_px);
-  p.ransac_confidence = m.get_double("ransac_confidence", p.ransac_confidence);
-  p.ransac_max_iterations = m.get_int("ransac_max_iterations", p.ransac_max_iterations);
-
-  p.stereo = m.get_bool("stereo", p.stereo);
-  p.stereo_epipolar_px = m.get_double("stereo_epipolar_px", p.stereo_epipolar_px);
-  p.stereo_lk_levels = m.get_int("stereo_lk_levels", p.stereo_lk_levels);
-  p.stereo_track_lk_levels = m.get_int("stereo_track_lk_levels", p.stereo_track_lk_levels);
-  p.stereo_fb_check_px = m.get_double("stereo_fb_check_px", p.stereo_fb_check_px);
-  p.stereo_max_disparity_px = m.get_double("stereo_max_disparity_px", p.stereo_max_disparity_px);
-  p.stereo_min_depth_m = m.get_double("stereo_min_depth_m", p.stereo_min_depth_m);
-  p.gyro_prediction = m.get_bool("gyro_prediction", p.gyro_prediction);
+  for (const auto& f : kInts) p.*f.member = m.get_int(f.key, p.*f.member);
+  for (const auto& f : kDoubles) p.*f.member = m.get_double(f.key, p.*f.member);
+  for (const auto& f : kBools) p.*f.member = m.get_bool(f.key, p.*f.member);
+  p.equalization = read_enum(m, "equalization", kEqualization, p.equalization);
+  p.ransac = read_enum(m, "ransac", kRansac, p.ransac);
 
   auto positive = [&](const char* key, double v) {
     if (!(v > 0.0)) m.fail(key, "must be positive");
@@ -96,6 +141,30 @@ FrontendParams load_frontend_params(const std::filesystem::path& path) {
     return p;
   }
   return frontend_params_from_yaml(root);
+}
+
+std::string to_yaml(const FrontendParams& p) {
+  std::ostringstream os;
+  os << "equalization: " << enum_name(kEqualization, p.equalization) << "\n"
+     << "ransac: " << enum_name(kRansac, p.ransac) << "\n";
+  for (const auto& f : kInts) os << f.key << ": " << p.*f.member << "\n";
+  for (const auto& f : kBools) os << f.key << ": " << (p.*f.member ? "true" : "false") << "\n";
+  for (const auto& f : kDoubles) os << f.key << ": " << io::format_double(p.*f.member) << "\n";
+  return os.str();
+}
+
+bool operator==(const FrontendParams& a, const FrontendParams& b) {
+  if (a.equalization != b.equalization || a.ransac != b.ransac) return false;
+  for (const auto& f : kInts) {
+    if (a.*f.member != b.*f.member) return false;
+  }
+  for (const auto& f : kDoubles) {
+    if (a.*f.member != b.*f.member) return false;
+  }
+  for (const auto& f : kBools) {
+    if (a.*f.member != b.*f.member) return false;
+  }
+  return true;
 }
 
 }  // namespace vid

@@ -140,4 +140,19 @@ std::string to_yaml(const EstimatorParams& p) {
 
 namespace vid {
 std::ostream& operator<<(std::ostream& os, const EstimatorParams& params) { return os << io::to_yaml(params); }
+
+bool operator==(const EstimatorParams& a, const EstimatorParams& b) {
+  using namespace io;
+  if (a.mode != b.mode || a.init_mode != b.init_mode || a.force_frame != b.force_frame) return false;
+  for (const auto& f : kDoubles) {
+    if (a.*f.member != b.*f.member) return false;
+  }
+  for (const auto& f : kInts) {
+    if (a.*f.member != b.*f.member) return false;
+  }
+  for (const auto& f : kBools) {
+    if (a.*f.member != b.*f.member) return false;
+  }
+  return true;
+}
 }  // namespace vid

@@ -32,4 +32,11 @@ std::string to_yaml(const ReaderOptions& options) {
 
 std::ostream& operator<<(std::ostream& os, const ReaderOptions& options) { return os << to_yaml(options); }
 
+bool operator==(const ReaderOptions& a, const ReaderOptions& b) {
+  for (const Flag& f : kFlags) {
+    if (a.*f.member != b.*f.member) return false;
+  }
+  return true;
+}
+
 }  // namespace vid::io

@@ -5,16 +5,16 @@
 #include <filesystem>
 
 #include "sim/scenario.h"
-#include "yaml_section.h"
+#include "io/strict_yaml.h"
 
 namespace vid::sim::detail {
 
-void parse_vehicle(const YamlSection& v, Scenario* s);
-void parse_controller(const YamlSection& c, ControllerGains* g);
-void parse_trajectory(const YamlSection& t, const std::filesystem::path& base_dir, TrajectoryConfig* c);
-void parse_forces(const YamlSection& f, EnvironmentConfig* e);
-void parse_mass(const YamlSection& m, EnvironmentConfig* e);
-void parse_sensors(const YamlSection& root, Scenario* s);
+void parse_vehicle(const io::YamlMap& v, Scenario* s);
+void parse_controller(const io::YamlMap& c, ControllerGains* g);
+void parse_trajectory(const io::YamlMap& t, const std::filesystem::path& base_dir, TrajectoryConfig* c);
+void parse_forces(const io::YamlMap& f, EnvironmentConfig* e);
+void parse_mass(const io::YamlMap& m, EnvironmentConfig* e);
+void parse_sensors(const io::YamlMap& root, Scenario* s);
 /// @brief Build a Scenario from a parsed (base-merged) root mapping; name = file for messages.
 Scenario scenario_from_node(const YAML::Node& root, const std::string& name);
 

@@ -7,30 +7,30 @@
 
 namespace vid::sim::detail {
 
-void parse_vehicle(const YamlSection& v, Scenario* s) {
+void parse_vehicle(const io::YamlMap& v, Scenario* s) {
   dynamics::QuadrotorParams& p = s->vehicle;
-  p.mass_kg = v.num("mass_kg", 1.0);
-  p.gravity = v.num("gravity", 9.81);
-  const Eigen::Vector3d J = v.vec3("inertia_diag", Eigen::Vector3d(0.01, 0.01, 0.018));
+  p.mass_kg = v.get_double("mass_kg", 1.0);
+  p.gravity = v.get_double("gravity", 9.81);
+  const Eigen::Vector3d J = v.get_vec3("inertia_diag", Eigen::Vector3d(0.01, 0.01, 0.018));
   p.inertia = J.asDiagonal();
-  p.arm_length_m = v.num("arm_length_m", 0.2);
-  const std::string layout = v.str("layout", "x");
+  p.arm_length_m = v.get_double("arm_length_m", 0.2);
+  const std::string layout = v.get_string("layout", "x");
   std::vector<double> k = {1e-7, 1e-7, 1e-7, 1e-7};
-  if (v.has("thrust_coefficients")) k = v.nums("thrust_coefficients");
-  else v.raw("thrust_coefficients");
+  if (v.has("thrust_coefficients")) k = v.get_doubles("thrust_coefficients");
+  else v.get_raw("thrust_coefficients");
   std::vector<int> dirs;
   if (v.has("rotor_directions")) {
-    for (double d : v.nums("rotor_directions")) dirs.push_back(static_cast<int>(d));
+    for (double d : v.get_doubles("rotor_directions")) dirs.push_back(static_cast<int>(d));
   } else {
-    v.raw("rotor_directions");
+    v.get_raw("rotor_directions");
   }
-  const double torque_ratio = v.num("torque_to_thrust_m", 0.016);
-  p.motor_time_constant_s = v.num("motor_time_constant_s", 0.03);
-  s->rotor_unit = v.str("rotor_speed_unit", "rpm");
-  p.rotor_speed_min = v.num("rotor_speed_min", 0.0);
-  p.rotor_speed_max = v.num("rotor_speed_max", 1e5);
-  p.linear_drag = v.vec3("linear_drag", Eigen::Vector3d::Zero());
-  v.finish();
+  const double torque_ratio = v.get_double("torque_to_thrust_m", 0.016);
+  p.motor_time_constant_s = v.get_double("motor_time_constant_s", 0.03);
+  s->rotor_unit = v.get_string("rotor_speed_unit", "rpm");
+  p.rotor_speed_min = v.get_double("rotor_speed_min", 0.0);
+  p.rotor_speed_max = v.get_double("rotor_speed_max", 1e5);
+  p.linear_drag = v.get_vec3("linear_drag", Eigen::Vector3d::Zero());
+  v.check_unknown();
   if (s->rotor_unit != "rpm" && s->rotor_unit != "rad/s") v.fail("rotor_speed_unit", "expected rpm or rad/s");
   if (!(p.mass_kg > 0.0)) v.fail("mass_kg", "must be > 0");
   if (!(p.gravity > 0.0)) v.fail("gravity", "must be > 0");
@@ -50,15 +50,15 @@ void parse_vehicle(const YamlSection& v, Scenario* s) {
     v.fail("rotor_speed_max", "maximum thrust is below 1.3 x weight");
 }
 
-void parse_controller(const YamlSection& c, ControllerGains* g) {
-  g->kp = c.vec3("kp", g->kp);
-  g->kv = c.vec3("kv", g->kv);
-  g->ki = c.vec3("ki", g->ki);
-  g->kr = c.vec3("kr", g->kr);
-  g->kw = c.vec3("kw", g->kw);
-  g->integral_limit = c.num("integral_limit", g->integral_limit);
-  g->disturbance_tau_s = c.num("disturbance_tau_s", g->disturbance_tau_s);
-  c.finish();
+void parse_controller(const io::YamlMap& c, ControllerGains* g) {
+  g->kp = c.get_vec3("kp", g->kp);
+  g->kv = c.get_vec3("kv", g->kv);
+  g->ki = c.get_vec3("ki", g->ki);
+  g->kr = c.get_vec3("kr", g->kr);
+  g->kw = c.get_vec3("kw", g->kw);
+  g->integral_limit = c.get_double("integral_limit", g->integral_limit);
+  g->disturbance_tau_s = c.get_double("disturbance_tau_s", g->disturbance_tau_s);
+  c.check_unknown();
 }
 
 }  // namespace vid::sim::detail

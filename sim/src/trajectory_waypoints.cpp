@@ -2,12 +2,13 @@
 /// @brief Square and zigzag (rest-to-rest septic segments between corners, repeated),
 /// random smooth waypoints in a box and TUM-file trajectories (quintic B-splines).
 
+#include <array>
 #include <cmath>
-#include <fstream>
-#include <sstream>
+#include <filesystem>
 #include <stdexcept>
 
 #include "bspline.h"
+#include "io/csv_reader.h"
 #include "sim/render/random.h"
 #include "sim/trajectory.h"
 #include "smooth_profile.h"
@@ -165,22 +166,21 @@ std::unique_ptr<Trajectory> make_random(const TrajectoryConfig& c) {
 }
 
 std::unique_ptr<Trajectory> make_from_file(const TrajectoryConfig& c) {
-  std::ifstream in(c.file);
-  if (!in) throw std::invalid_argument("trajectory: cannot open TUM file '" + c.file + "'");
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(c.file, ec)) {
+    throw std::invalid_argument("trajectory: cannot open TUM file '" + c.file + "'");
+  }
+  io::CsvReader in(c.file, ' ');  // TUM: "t x y z qx qy qz qw", blank separated
   std::vector<double> times;
   std::vector<Eigen::Vector4d> rows;  // x, y, z, yaw
-  std::string line;
-  int line_no = 0;
   double prev_yaw = 0.0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream ss(line);
-    double t, x, y, z, qx, qy, qz, qw;
-    if (!(ss >> t >> x >> y >> z >> qx >> qy >> qz >> qw))
-      throw std::invalid_argument(c.file + ":" + std::to_string(line_no) + ": expected 8 numbers (TUM)");
-    if (!times.empty() && !(t > times.back()))
-      throw std::invalid_argument(c.file + ":" + std::to_string(line_no) + ": timestamps not increasing");
+  static constexpr std::array<const char*, 8> kColumns = {"t", "x", "y", "z", "qx", "qy", "qz", "qw"};
+  while (in.next_row()) {
+    if (in.size() < kColumns.size()) in.fail("expected 8 numbers (TUM)");
+    std::array<double, 8> v{};
+    for (std::size_t i = 0; i < kColumns.size(); ++i) v[i] = in.get_double(i, kColumns[i]);
+    const auto [t, x, y, z, qx, qy, qz, qw] = v;
+    if (!times.empty() && !(t > times.back())) in.fail("timestamps not increasing");
     double yaw = std::atan2(2.0 * (qw * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz));
     if (!rows.empty()) yaw = prev_yaw + std::remainder(yaw - prev_yaw, 2.0 * M_PI);  // unwrap
     prev_yaw = yaw;

@@ -21,15 +21,12 @@ namespace {
 
 constexpr std::uint64_t kRenderStream = 4, kFeatureStream = 5;
 
-/// @brief A section node, or an empty map when the scenario has none (= all defaults).
-YAML::Node section(const YAML::Node& n) { return (n && !n.IsNull()) ? n : YAML::Node(YAML::NodeType::Map); }
-
 class RenderedOutput : public VisualOutput {
  public:
   explicit RenderedOutput(const Scenario& sc)
       : sc_(sc),
-        scene_(parse_scene_config(section(sc.scene_node), sc.file)),
-        render_cfg_(parse_render_config(section(sc.render_node), sc.file)) {
+        scene_(parse_scene_config(sc.scene_node, sc.file)),
+        render_cfg_(parse_render_config(sc.render_node, sc.file)) {
     render_cfg_.seed = derive_seed(render_cfg_.seed ^ sc.seed, kRenderStream);
     if (!sc.noise) {
       render_cfg_.noise_sigma = 0.0;
@@ -41,7 +38,7 @@ class RenderedOutput : public VisualOutput {
     }
 #ifdef VID_SIM_HAS_FEATURES
     FeatureSimConfig fc =
-        parse_feature_sim_config(section(sc.features_node), sc.file);
+        parse_feature_sim_config(sc.features_node, sc.file);
     fc.seed = derive_seed(fc.seed ^ sc.seed, kFeatureStream);
     if (!sc.noise) fc.pixel_noise_sigma = 0.0;
     if (sc.cameras.features) features_ = std::make_unique<FeatureSimulator>(scene_, sc.cameras.cameras, fc);

@@ -332,6 +332,29 @@ TEST(EstimatorParamsYaml, LoaderKnowsEveryField) {
       << "EstimatorParams changed: update the field tables in io/src/estimator_params_yaml.cpp";
 }
 
+TEST(EstimatorParamsYaml, EqualityFollowsEveryPrintedField) {
+  EstimatorParams p;
+  p.mode = PropagationMode::kImu;
+  p.window_size = 13;
+  p.chi2_multiplier = 0.1 + 0.2;
+  EXPECT_TRUE(load_estimator_params_string(to_yaml(p), "p.yaml") == p);  // parse(print(x)) == x
+  EXPECT_FALSE(p == EstimatorParams{});
+  // Every printed key, changed alone, makes the structs unequal (equality misses no field).
+  const std::string y = to_yaml(EstimatorParams{});
+  std::istringstream lines(y);
+  for (std::string line; std::getline(lines, line);) {
+    const std::string key = line.substr(0, line.find(':'));
+    std::string value = line.substr(line.find(':') + 2);
+    if (value == "true" || value == "false") value = value == "true" ? "false" : "true";
+    else if (key == "mode") value = "imu";
+    else if (key == "init_mode") value = "groundtruth";
+    else if (key == "force_frame") value = value == "body" ? "world" : "body";
+    else value = value + "1";  // 0.5 -> 0.51, 30 -> 301
+    const EstimatorParams q = load_estimator_params_string(key + ": " + value + "\n", "q.yaml");
+    EXPECT_FALSE(q == EstimatorParams{}) << key;
+  }
+}
+
 TEST(ReaderOptionsYaml, RoundTripAndStrictKeys) {
   ReaderOptions o;
   o.drop_bad_timestamps = true;
@@ -345,6 +368,8 @@ TEST(ReaderOptionsYaml, RoundTripAndStrictKeys) {
   EXPECT_TRUE(b.read_features);
   EXPECT_TRUE(b.read_groundtruth);
   EXPECT_EQ(to_yaml(b), os.str());
+  EXPECT_TRUE(b == o);
+  EXPECT_FALSE(b == ReaderOptions{});
   EXPECT_EQ(config_error([] { load_reader_options(YamlMap::load_string("read_image: true\n", "r.yaml")); }),
             "r.yaml:1: unknown key 'read_image'");
 }

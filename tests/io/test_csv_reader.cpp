@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "io/csv_reader.h"
 #include "io/number_format.h"
 #include "io_test_util.h"
@@ -66,6 +68,64 @@ TEST(NumberFormat, ShortestExactRoundTrip) {
   }
   EXPECT_EQ(format_double(0.1), "0.1");
   EXPECT_EQ(format_list({1.0, 2.5}), "[1, 2.5]");
+}
+
+TEST(CsvReader, HeaderRowNamedColumnsAndNonFinite) {
+  ScratchDir dir;
+  const auto p = dir.path() / "runs.csv";
+  write_text(p, "name, t ,value\nloop,3,nan\n# comment\nsquare,4,x\n");
+  CsvReader csv(p);
+  csv.read_header({"name", "t", "value"});
+  ASSERT_TRUE(csv.next_row());
+  EXPECT_EQ(csv.field("name"), "loop");
+  EXPECT_EQ(csv.get_int("t"), 3);
+  EXPECT_TRUE(std::isnan(csv.get_double("value", CsvReader::NonFinite::kAccept)));
+  try {
+    csv.get_double("value");
+    FAIL() << "NaN accepted";
+  } catch (const DatasetError& e) {
+    EXPECT_EQ(std::string(e.what()), p.string() + ":2: column 3 'value': non-finite value 'nan' (NaN/Inf)");
+  }
+  ASSERT_TRUE(csv.next_row());
+  EXPECT_EQ(csv.line(), 4u);
+  try {
+    csv.get_double("value", CsvReader::NonFinite::kAccept);
+    FAIL() << "text accepted";
+  } catch (const DatasetError& e) {
+    EXPECT_EQ(std::string(e.what()), p.string() + ":4: column 3 'value': expected a number, got 'x'");
+  }
+  EXPECT_THROW(csv.column("missing"), DatasetError);
+  // A '#'-prefixed header is the same header; a different one names file:1 and both texts.
+  write_text(p, "#name,t,value\n");
+  CsvReader hashed(p);
+  hashed.read_header({"name", "t", "value"});
+  EXPECT_FALSE(hashed.next_row());
+  write_text(p, "name,time\n");
+  CsvReader bad(p);
+  try {
+    bad.read_header({"name", "t"});
+    FAIL() << "bad header accepted";
+  } catch (const DatasetError& e) {
+    EXPECT_EQ(std::string(e.what()), p.string() + ":1: bad header 'name,time', expected 'name,t'");
+  }
+  write_text(p, "");
+  CsvReader empty(p);
+  EXPECT_THROW(empty.read_header({"name"}), DatasetError);
+}
+
+TEST(CsvReader, BlankSeparatedRows) {
+  ScratchDir dir;
+  const auto p = dir.path() / "traj.tum";
+  write_text(p, "# t x y\n1.5  2\t3\n\n2 4 five\n");
+  CsvReader csv(p, ' ');
+  ASSERT_TRUE(csv.next_row());
+  ASSERT_EQ(csv.size(), 3u);
+  EXPECT_EQ(csv.get_double(0, "t"), 1.5);
+  EXPECT_EQ(csv.get_double(2, "y"), 3.0);
+  ASSERT_TRUE(csv.next_row());
+  EXPECT_EQ(csv.line(), 4u);
+  EXPECT_THROW(csv.get_double(2, "y"), DatasetError);
+  EXPECT_FALSE(csv.next_row());
 }
 
 }  // namespace

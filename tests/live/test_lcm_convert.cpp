@@ -98,6 +98,16 @@ TEST(Channels, DefaultsAndYamlOverrides) {
   EXPECT_EQ(c.cam0, "LEFT");
   EXPECT_EQ(c.state, "EST");
   EXPECT_EQ(c.cam1, "CAM1");
+  // Typed parameters: parse(print(x)) == x, and a changed name compares unequal.
+  {
+    std::ofstream(dir / "printed.yaml") << print(c);
+  }
+  EXPECT_TRUE(load_channels(dir / "printed.yaml") == c);
+  EXPECT_FALSE(c == ChannelNames{});
+  {
+    std::ofstream(dir / "empty.yaml") << "";
+  }
+  EXPECT_TRUE(load_channels(dir / "empty.yaml") == ChannelNames{});
   try {
     load_channels(dir / "bad.yaml");
     FAIL() << "unknown key accepted";

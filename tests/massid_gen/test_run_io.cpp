@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "massid/gen/manifest.h"
+#include "massid/filters/study_io.h"
 #include "massid/gen/study_config.h"
 #include "massid/run_data.h"
 
@@ -227,6 +228,13 @@ TEST(MassIdStudyConfig, YamlRoundTripAndUnknownKeys) {
   EXPECT_EQ(back.mass.up_down_times_s, s.mass.up_down_times_s);
   EXPECT_EQ(back.controller.horizon, 12);
   EXPECT_EQ(vid::massid::gen::generator_settings_yaml(back), vid::massid::gen::generator_settings_yaml(s));
+  EXPECT_TRUE(back == s);  // parse(print(x)) == x
+  auto changed = s;
+  changed.controller.weight_v *= 1.5;
+  EXPECT_FALSE(changed == s);
+  changed = s;
+  changed.trajectories.pop_back();
+  EXPECT_FALSE(changed == s);
 
   auto error_for = [](const std::string& text) {
     try {
@@ -243,4 +251,32 @@ TEST(MassIdStudyConfig, YamlRoundTripAndUnknownKeys) {
   // The shipped study file parses and is the documented study: 5 x 5 x 50 runs.
   const auto study = vid::massid::gen::load_generator_settings(VID_SOURCE_DIR "/config/massid/study.yaml");
   EXPECT_EQ(study.trajectories.size() * study.profiles.size() * study.runs, 1250u);
+}
+
+TEST(MassIdRunsCsv, ReadsRowsAndNamesFileLineAndField) {
+  const fs::path dir = temp_dir("runs_csv");
+  const fs::path file = dir / "runs.csv";
+  const std::string head = vid::massid::runs_csv_header() + "\n";
+  write_text(file, head + "loop,constant,0,7,ekf,100,1.5,0.01,0.02\nloop,constant,1,8,ukf,100,nan,0.01,0.02\n");
+  const auto rows = vid::massid::read_runs_csv(file);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].method, "ekf");
+  EXPECT_EQ(rows[0].rmspe_pct, 1.5);
+  EXPECT_TRUE(std::isnan(rows[1].rmspe_pct));  // a diverged run stays in the tables as before
+  auto error_of = [&](const std::string& text) {
+    write_text(file, text);
+    try {
+      vid::massid::read_runs_csv(file);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error_of(head + "loop,constant,0,7,ekf,many,1.5,0.01,0.02\n")
+                .find(file.string() + ":2: column 6 'samples': expected an integer, got 'many'"),
+            std::string::npos);
+  EXPECT_NE(error_of(head + "loop,constant,0,7,ekf\n").find(file.string() + ":2: expected 9 columns"), std::string::npos);
+  EXPECT_NE(error_of("trajectory,profile\n").find(file.string() + ":1: bad header"), std::string::npos);
+  EXPECT_NE(error_of(head).find("no rows"), std::string::npos);
+  fs::remove_all(dir);
 }

@@ -107,6 +107,24 @@ TEST(Trajectory, FileFitFollowsTumPoses) {
   std::filesystem::remove(path);
 }
 
+TEST(Trajectory, BadTumRowNamesFileLineAndField) {
+  const auto path = std::filesystem::temp_directory_path() / "vid_sim_test_bad.tum";
+  {
+    std::ofstream f(path);
+    f << "# t x y z qx qy qz qw\n0 0 0 0 0 0 0 1\n0.1 0 zero 0 0 0 0 1\n";
+  }
+  TrajectoryConfig c = config("file");
+  c.file = path.string();
+  try {
+    make_trajectory(c);
+    FAIL() << "bad TUM row accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string() + ":3: column 3 'y': expected a number, got 'zero'"),
+              std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
 TEST(Trajectory, UnknownTypeThrows) { EXPECT_THROW(make_trajectory(config("spiral")), std::invalid_argument); }
 
 }  // namespace

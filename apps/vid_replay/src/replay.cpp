@@ -14,6 +14,7 @@
 
 #include "app/prefetch.h"
 #include "app/progress.h"
+#include "io/csv_reader.h"
 #include "io/dataset_reader.h"
 #include "io/lcm/lcm_convert.h"
 
@@ -39,11 +40,10 @@ struct Later {
 
 /// Rows of a CSV that are not comments or blank (image count per camera).
 std::size_t data_rows(const fs::path& csv) {
-  std::ifstream f(csv);
-  std::size_t n = 0;
-  for (std::string line; std::getline(f, line);)
-    if (!line.empty() && line[0] != '#' && line.find_first_not_of(" \r") != std::string::npos) ++n;
-  return n;
+  io::CsvReader in(csv);
+  while (in.next_row()) {
+  }
+  return in.rows();
 }
 
 }  // namespace
@@ -85,10 +85,9 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   TimeNs imu_last = INT64_MIN;     // last replayed IMU time (progress)
   auto plan_malformed = [&](TimeNs from, TimeNs to) {
     std::vector<TimeNs> t_imu;
-    std::ifstream f(reader.mav0() / "imu0" / "data.csv");
-    for (std::string line; std::getline(f, line);) {
-      if (line.empty() || line[0] == '#') continue;
-      const TimeNs t = std::stoll(line.substr(0, line.find(',')));  // the reader has validated the file
+    io::CsvReader in(reader.mav0() / "imu0" / "data.csv");
+    while (in.next_row()) {
+      const TimeNs t = in.get_int(0, "timestamp [ns]");
       if (t >= from && t <= to) t_imu.push_back(t);
     }
     if (t_imu.empty()) return;

@@ -25,4 +25,7 @@ std::string to_yaml(const EstimatorParams& params);
 namespace vid {
 /// @brief Print as YAML (the exact configuration of a run).
 std::ostream& operator<<(std::ostream& os, const EstimatorParams& params);
+/// @brief Field-wise equality over the same tables that load and print (so a new field
+/// caught by the drift guard in tests/io/test_config.cpp is compared too).
+bool operator==(const EstimatorParams& a, const EstimatorParams& b);
 }  // namespace vid

@@ -17,5 +17,7 @@ ReaderOptions load_reader_options(const YamlMap& map);
 std::string to_yaml(const ReaderOptions& options);
 /// @brief Print as YAML.
 std::ostream& operator<<(std::ostream& os, const ReaderOptions& options);
+/// @brief Option-wise equality (same table as load and print).
+bool operator==(const ReaderOptions& a, const ReaderOptions& b);
 
 }  // namespace vid::io

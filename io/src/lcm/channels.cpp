@@ -1,35 +1,52 @@
 #include "io/lcm/channels.h"
 
-#include <yaml-cpp/yaml.h>
-
-#include <map>
+#include <array>
+#include <utility>
 
 #include "io/errors.h"
+#include "io/strict_yaml.h"
 
 namespace vid::lcm_io {
+namespace {
+
+/// @brief One (key, member) table drives parse and print, so the two cannot drift apart.
+constexpr std::array<std::pair<const char*, std::string ChannelNames::*>, 8> kKeys = {{
+    {"imu", &ChannelNames::imu},
+    {"cam0", &ChannelNames::cam0},
+    {"cam1", &ChannelNames::cam1},
+    {"rotors", &ChannelNames::rotors},
+    {"thrust", &ChannelNames::thrust},
+    {"state", &ChannelNames::state},
+    {"force", &ChannelNames::force},
+    {"status", &ChannelNames::status},
+}};
+
+}  // namespace
+
+ChannelNames parse_channels(const io::YamlMap& m) {
+  ChannelNames c;
+  for (const auto& [key, member] : kKeys) {
+    c.*member = m.get_string(key, c.*member);
+    if ((c.*member).empty()) m.fail(key, "expected a non-empty channel name");
+  }
+  m.check_unknown();
+  return c;
+}
 
 ChannelNames load_channels(const std::filesystem::path& yaml_file) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(yaml_file.string());
-  } catch (const YAML::Exception& e) {
-    throw io::ConfigError(yaml_file.string() + ": " + e.what());
+  // An empty file means all defaults.
+  return parse_channels(io::YamlMap::from_node(io::YamlMap::parse_file(yaml_file), yaml_file.string(), ""));
+}
+
+std::string print(const ChannelNames& c) {
+  std::string out;
+  for (const auto& [key, member] : kKeys) {
+    out += key;
+    out += ": ";
+    out += c.*member;
+    out += '\n';
   }
-  ChannelNames c;
-  if (!root || root.IsNull()) return c;
-  if (!root.IsMap()) throw io::ConfigError(yaml_file.string() + ": expected a map of channel names");
-  const std::map<std::string, std::string*> keys = {{"imu", &c.imu},       {"cam0", &c.cam0},   {"cam1", &c.cam1},
-                                                    {"rotors", &c.rotors}, {"thrust", &c.thrust}, {"state", &c.state},
-                                                    {"force", &c.force},   {"status", &c.status}};
-  for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
-    auto it = keys.find(key);
-    if (it == keys.end()) throw io::ConfigError(yaml_file.string() + ": key '" + key + "': unknown channel key");
-    if (!kv.second.IsScalar() || kv.second.as<std::string>().empty())
-      throw io::ConfigError(yaml_file.string() + ": key '" + key + "': expected a non-empty channel name");
-    *it->second = kv.second.as<std::string>();
-  }
-  return c;
+  return out;
 }
 
 }  // namespace vid::lcm_io

@@ -7,33 +7,31 @@
 #include <numbers>
 
 #include "frontend/camera_model.h"
-#include "yaml_fields.h"
+#include "io/strict_yaml.h"
 
 namespace vid::sim {
 
 FeatureSimConfig parse_feature_sim_config(const YAML::Node& node, const std::string& file) {
   FeatureSimConfig c;
-  const detail::YamlMap m(node, file, "features");
-  m.allow_only({"target_per_camera", "pixel_noise_sigma", "drop_probability", "border_px",
-                "max_incidence_deg", "min_depth_m", "max_depth_m", "min_separation_px", "grid",
-                "seed"});
-  m.read("target_per_camera", &c.target_per_camera);
-  m.read("pixel_noise_sigma", &c.pixel_noise_sigma);
-  m.read("drop_probability", &c.drop_probability);
-  m.read("border_px", &c.border_px);
-  m.read("max_incidence_deg", &c.max_incidence_deg);
-  m.read("min_depth_m", &c.min_depth_m);
-  m.read("max_depth_m", &c.max_depth_m);
-  m.read("min_separation_px", &c.min_separation_px);
+  const io::YamlMap m = io::YamlMap::from_node(node, file, "features");
+  c.target_per_camera = m.get_int("target_per_camera", c.target_per_camera);
+  c.pixel_noise_sigma = m.get_double("pixel_noise_sigma", c.pixel_noise_sigma);
+  c.drop_probability = m.get_double("drop_probability", c.drop_probability);
+  c.border_px = m.get_double("border_px", c.border_px);
+  c.max_incidence_deg = m.get_double("max_incidence_deg", c.max_incidence_deg);
+  c.min_depth_m = m.get_double("min_depth_m", c.min_depth_m);
+  c.max_depth_m = m.get_double("max_depth_m", c.max_depth_m);
+  c.min_separation_px = m.get_double("min_separation_px", c.min_separation_px);
   Eigen::Vector2d grid(c.grid_cols, c.grid_rows);
-  m.read("grid", &grid);
+  grid = m.get_vec2("grid", grid);
+  c.seed = m.get_u64("seed", c.seed);
+  m.check_unknown();
   if (grid.x() != std::floor(grid.x()) || grid.y() != std::floor(grid.y()) || grid.x() < 1 ||
       grid.y() < 1 || grid.x() > 64 || grid.y() > 64) {
     m.fail("grid", "expected two integers in 1..64");
   }
   c.grid_cols = static_cast<int>(grid.x());
   c.grid_rows = static_cast<int>(grid.y());
-  m.read("seed", &c.seed);
   if (c.target_per_camera < 0 || c.target_per_camera > 5000) {
     m.fail("target_per_camera", "must be in [0, 5000]");
   }

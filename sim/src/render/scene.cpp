@@ -1,5 +1,7 @@
 #include "sim/render/scene.h"
 
+#include "io/strict_yaml.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -324,12 +326,7 @@ SceneConfig scene_config_from_scenario_file(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) {
     throw io::ConfigError(path + ": cannot open scenario file");
   }
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw io::ConfigError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+  const YAML::Node root = io::YamlMap::parse_file(path);
   if (root && root.IsMap() && root["scene"]) return parse_scene_config(root["scene"], path);
   SceneConfig c;
   validate_scene_config(c, path);

@@ -3,50 +3,51 @@
 #include <yaml-cpp/yaml.h>
 
 #include "io/errors.h"
-#include "yaml_fields.h"
+#include "io/strict_yaml.h"
 
 namespace vid::sim {
 
 SceneConfig parse_scene_config(const YAML::Node& scene_node, const std::string& file) {
   SceneConfig c;
-  const detail::YamlMap m(scene_node, file, "scene");
-  m.allow_only({"room_size", "room_center", "texture_seed", "texels_per_m", "boxes",
-                "checkerboard"});
-  m.read("room_size", &c.room_size);
-  m.read("room_center", &c.room_center);
-  m.read("texture_seed", &c.texture_seed);
-  m.read("texels_per_m", &c.texels_per_m);
+  const io::YamlMap m = io::YamlMap::from_node(scene_node, file, "scene");
+  c.room_size = m.get_vec3("room_size", c.room_size);
+  c.room_center = m.get_vec3("room_center", c.room_center);
+  c.texture_seed = m.get_u64("texture_seed", c.texture_seed);
+  c.texels_per_m = m.get_double("texels_per_m", c.texels_per_m);
   if (m.has("boxes")) {
-    const detail::YamlMap b = m.child("boxes");
-    b.allow_only({"count", "size_min", "size_max", "keep_out_min", "keep_out_max"});
-    b.read("count", &c.boxes.count);
-    b.read("size_min", &c.boxes.size_min);
-    b.read("size_max", &c.boxes.size_max);
+    const io::YamlMap b = m.get_map("boxes");
+    c.boxes.count = b.get_int("count", c.boxes.count);
+    c.boxes.size_min = b.get_double("size_min", c.boxes.size_min);
+    c.boxes.size_max = b.get_double("size_max", c.boxes.size_max);
     if (b.has("keep_out_min") != b.has("keep_out_max")) {
       b.fail(b.has("keep_out_min") ? "keep_out_min" : "keep_out_max",
              "keep_out_min and keep_out_max must be given together");
     }
     if (b.has("keep_out_min")) {
       c.boxes.has_keep_out = true;
-      b.read("keep_out_min", &c.boxes.keep_out_min);
-      b.read("keep_out_max", &c.boxes.keep_out_max);
+      c.boxes.keep_out_min = b.get_vec3("keep_out_min", c.boxes.keep_out_min);
+      c.boxes.keep_out_max = b.get_vec3("keep_out_max", c.boxes.keep_out_max);
     }
+    b.check_unknown();
   }
   if (m.has("checkerboard")) {
-    const detail::YamlMap k = m.child("checkerboard");
-    k.allow_only({"wall", "center", "squares", "square_size"});
+    const io::YamlMap k = m.get_map("checkerboard");
     c.checkerboard.enabled = true;
-    k.read("wall", &c.checkerboard.wall);
-    k.read("center", &c.checkerboard.center);
+    c.checkerboard.wall = k.get_string("wall", c.checkerboard.wall);
+    c.checkerboard.center = k.get_vec2("center", c.checkerboard.center);
     Eigen::Vector2d sq(c.checkerboard.squares_x, c.checkerboard.squares_y);
-    k.read("squares", &sq);
+    sq = k.get_vec2("squares", sq);
     if (sq.x() != static_cast<int>(sq.x()) || sq.y() != static_cast<int>(sq.y())) {
       k.fail("squares", "expected two integers");
     }
     c.checkerboard.squares_x = static_cast<int>(sq.x());
     c.checkerboard.squares_y = static_cast<int>(sq.y());
-    k.read("square_size", &c.checkerboard.square_size);
+    c.checkerboard.square_size = k.get_double("square_size", c.checkerboard.square_size);
+    k.check_unknown();
   }
+  m.accept("boxes");  // read above when present; an empty value means defaults
+  m.accept("checkerboard");
+  m.check_unknown();
   validate_scene_config(c, file);
   return c;
 }

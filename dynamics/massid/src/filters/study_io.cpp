@@ -10,6 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "io/csv_reader.h"
+
 namespace vid::massid {
 namespace {
 
@@ -96,32 +98,25 @@ void write_estimates_csv(const std::filesystem::path& out, const RunResult& r) {
 }
 
 std::vector<RunRow> read_runs_csv(const std::filesystem::path& file) {
-  std::ifstream f(file);
-  if (!f) throw std::runtime_error(file.string() + ": cannot open (run `vid_massid run` first)");
-  std::string line;
-  std::getline(f, line);
-  if (line != runs_csv_header()) throw std::runtime_error(file.string() + ":1: unexpected header");
+  if (!std::filesystem::is_regular_file(file)) {
+    throw std::runtime_error(file.string() + ": cannot open (run `vid_massid run` first)");
+  }
+  io::CsvReader in(file);
+  in.read_header(split(runs_csv_header()));
   std::vector<RunRow> rows;
-  int lineno = 1;
-  while (std::getline(f, line)) {
-    ++lineno;
-    if (line.empty()) continue;
-    const auto c = split(line);
-    if (c.size() != 9) throw std::runtime_error(file.string() + ":" + std::to_string(lineno) + ": expected 9 fields");
-    try {
-      RunRow r;
-      r.trajectory = c[0];
-      r.profile = c[1];
-      r.index = std::stoi(c[2]);
-      r.method = c[4];
-      r.samples = std::stoi(c[5]);
-      r.rmspe_pct = std::stod(c[6]);
-      r.mean_update_ms = std::stod(c[7]);
-      r.mean_update_cpu_ms = std::stod(c[8]);
-      rows.push_back(r);
-    } catch (const std::exception&) {
-      throw std::runtime_error(file.string() + ":" + std::to_string(lineno) + ": bad number");
-    }
+  while (in.next_row()) {
+    in.expect_columns(9);
+    RunRow r;
+    r.trajectory = in.field("trajectory");
+    r.profile = in.field("mass_profile");
+    r.index = static_cast<int>(in.get_int("index"));
+    r.method = in.field("method");
+    r.samples = static_cast<int>(in.get_int("samples"));
+    // A diverged run has rmspe 'nan'; the tables average what they get, as before.
+    r.rmspe_pct = in.get_double("rmspe_pct", io::CsvReader::NonFinite::kAccept);
+    r.mean_update_ms = in.get_double("mean_update_ms", io::CsvReader::NonFinite::kAccept);
+    r.mean_update_cpu_ms = in.get_double("mean_update_cpu_ms", io::CsvReader::NonFinite::kAccept);
+    rows.push_back(r);
   }
   if (rows.empty()) throw std::runtime_error(file.string() + ": no rows");
   return rows;

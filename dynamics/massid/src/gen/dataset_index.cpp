@@ -6,6 +6,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "io/strict_yaml.h"
 #include "massid/gen/manifest.h"
 #include "massid/run_data.h"
 
@@ -14,23 +15,6 @@ namespace {
 
 constexpr const char* kFormat = "vid_massid_dataset";
 constexpr int kVersion = 1;
-
-[[noreturn]] void key_error(const std::filesystem::path& file, const std::string& key,
-                            const std::string& msg) {
-  throw std::runtime_error(file.string() + ": key '" + key + "': " + msg);
-}
-
-template <typename T>
-T get(const YAML::Node& map, const std::string& key, const std::filesystem::path& file,
-      const std::string& where) {
-  const YAML::Node n = map[key];
-  if (!n) key_error(file, where + key, "missing");
-  try {
-    return n.as<T>();
-  } catch (const YAML::Exception&) {
-    key_error(file, where + key, "wrong type");
-  }
-}
 
 }  // namespace
 
@@ -45,7 +29,7 @@ void write_manifest(const std::filesystem::path& dir, const std::string& generat
   out << YAML::Key << "version" << YAML::Value << kVersion;
   out << YAML::Key << "generator" << YAML::Value;
   const YAML::Node gen_node = generator_yaml.empty() ? YAML::Node(YAML::NodeType::Map)
-                                                     : YAML::Load(generator_yaml);
+                                                     : io::YamlMap::parse_string(generator_yaml, "generator settings");
   out << gen_node;
   out << YAML::Key << "runs" << YAML::Value << YAML::BeginSeq;
   for (const RunInfo& r : runs) {
@@ -77,42 +61,33 @@ DatasetIndex read_dataset_index(const std::filesystem::path& dir) {
   if (!std::filesystem::exists(file)) {
     throw std::runtime_error(file.string() + ": no manifest (not a vid_massid dataset folder)");
   }
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(file.string() + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  const io::YamlMap root = io::YamlMap::load_file(file);
+  if (root.get_string("format") != kFormat) root.fail("format", std::string("expected '") + kFormat + "'");
+  if (root.get_int("version") != kVersion) {
+    root.fail("version", "unsupported version (expected " + std::to_string(kVersion) + ")");
   }
-  if (!root.IsMap()) throw std::runtime_error(file.string() + ": top level must be a map");
-  if (get<std::string>(root, "format", file, "") != kFormat) {
-    key_error(file, "format", std::string("expected '") + kFormat + "'");
-  }
-  if (get<int>(root, "version", file, "") != kVersion) {
-    key_error(file, "version", "unsupported version (expected " + std::to_string(kVersion) + ")");
-  }
-  const YAML::Node runs = root["runs"];
-  if (!runs || !runs.IsSequence()) key_error(file, "runs", "missing or not a list");
+  root.accept("generator");  // the study settings, for the record; the runs below are what counts
+  if (!root.has("runs")) root.fail("runs", "missing list of runs");
   DatasetIndex index;
   index.root = dir;
-  for (size_t i = 0; i < runs.size(); ++i) {
-    const YAML::Node r = runs[i];
-    const std::string where = "runs[" + std::to_string(i) + "].";
-    if (!r.IsMap()) key_error(file, "runs[" + std::to_string(i) + "]", "not a map");
+  for (const io::YamlMap& r : root.get_maps("runs")) {
     RunInfo info;
-    info.trajectory = get<std::string>(r, "trajectory", file, where);
-    info.mass_profile = get<std::string>(r, "mass_profile", file, where);
-    info.index = get<int>(r, "index", file, where);
-    info.seed = get<std::uint64_t>(r, "seed", file, where);
-    info.gravity = get<double>(r, "gravity", file, where);
-    info.initial_mass_guess = get<double>(r, "initial_mass_guess", file, where);
-    info.sigma_q = get<double>(r, "sigma_q", file, where);
-    info.sigma_p = get<double>(r, "sigma_p", file, where);
-    info.sigma_v = get<double>(r, "sigma_v", file, where);
-    if (info.index < 0) key_error(file, where + "index", "must be >= 0");
-    if (!(info.initial_mass_guess > 0.0)) key_error(file, where + "initial_mass_guess", "must be > 0");
-    if (!(info.gravity > 0.0)) key_error(file, where + "gravity", "must be > 0");
+    info.trajectory = r.get_string("trajectory");
+    info.mass_profile = r.get_string("mass_profile");
+    info.index = r.get_int("index");
+    info.seed = r.get_u64("seed");
+    info.gravity = r.get_double("gravity");
+    info.initial_mass_guess = r.get_double("initial_mass_guess");
+    info.sigma_q = r.get_double("sigma_q");
+    info.sigma_p = r.get_double("sigma_p");
+    info.sigma_v = r.get_double("sigma_v");
+    r.check_unknown();
+    if (info.index < 0) r.fail("index", "must be >= 0");
+    if (!(info.initial_mass_guess > 0.0)) r.fail("initial_mass_guess", "must be > 0");
+    if (!(info.gravity > 0.0)) r.fail("gravity", "must be > 0");
     index.runs.push_back(info);
   }
+  root.check_unknown();
   return index;
 }
 

@@ -7,9 +7,8 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
-#include <string_view>
-#include <system_error>
 
+#include "io/csv_reader.h"
 #include "massid/run_data.h"
 
 namespace vid::massid {
@@ -41,10 +40,6 @@ std::array<double, 16> sample_values(const MassIdSample& s) {
           s.w_I.x(),  s.w_I.y(),  s.w_I.z(),  s.mass_true};
 }
 
-[[noreturn]] void fail(const std::filesystem::path& file, size_t line, const std::string& msg) {
-  throw std::runtime_error(file.string() + ":" + std::to_string(line) + ": " + msg);
-}
-
 }  // namespace
 
 void write_run_csv(const std::filesystem::path& file, const std::vector<MassIdSample>& samples) {
@@ -67,60 +62,26 @@ void write_run_csv(const std::filesystem::path& file, const std::vector<MassIdSa
 }
 
 std::vector<MassIdSample> read_run_csv(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw std::runtime_error(file.string() + ": cannot open run CSV");
-  std::string line;
-  size_t line_no = 0;
-  if (!std::getline(in, line)) fail(file, 1, "empty file, expected header '" + header_line() + "'");
-  ++line_no;
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  if (!line.empty() && line.front() == '#') line.erase(0, 1);
-  if (line != header_line()) {
-    fail(file, line_no, "bad header '" + line + "', expected '" + header_line() + "'");
-  }
+  io::CsvReader in(file);
+  in.read_header(std::vector<std::string>(kFields.begin(), kFields.end()));
   std::vector<MassIdSample> samples;
   double t_prev = -INFINITY;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) continue;  // tolerate a trailing blank line
-    std::array<double, 16> v{};
-    size_t field = 0;
-    size_t pos = 0;
-    while (true) {
-      const size_t comma = line.find(',', pos);
-      const std::string_view tok(line.data() + pos,
-                                 (comma == std::string::npos ? line.size() : comma) - pos);
-      if (field >= v.size()) {
-        fail(file, line_no, "too many fields (expected " + std::to_string(v.size()) + ")");
-      }
-      const char* b = tok.data();
-      const char* e = tok.data() + tok.size();
-      while (b < e && *b == ' ') ++b;  // allow "a, b" spacing
-      double x = 0.0;
-      const auto res = std::from_chars(b, e, x);
-      if (res.ec != std::errc() || res.ptr != e || !std::isfinite(x)) {
-        fail(file, line_no,
-             std::string("field '") + kFields[field] + "': not a finite number: '" +
-                 std::string(tok) + "'");
-      }
-      v[field++] = x;
-      if (comma == std::string::npos) break;
-      pos = comma + 1;
+  while (in.next_row()) {
+    if (in.size() > kFields.size()) in.fail("too many fields (expected " + std::to_string(kFields.size()) + ")");
+    if (in.size() < kFields.size()) {
+      in.fail("expected " + std::to_string(kFields.size()) + " fields, got " + std::to_string(in.size()) +
+              " (missing field '" + kFields[in.size()] + "')");
     }
-    if (field != v.size()) {
-      fail(file, line_no,
-           "expected " + std::to_string(v.size()) + " fields, got " + std::to_string(field) +
-               " (missing field '" + kFields[field] + "')");
-    }
-    if (!(v[0] > t_prev)) fail(file, line_no, "field 't': time does not increase");
+    std::array<double, kFields.size()> v{};
+    for (size_t i = 0; i < kFields.size(); ++i) v[i] = in.get_double(i, kFields[i]);
+    if (!(v[0] > t_prev)) in.fail("field 't': time does not increase");
     t_prev = v[0];
     const double qn = std::sqrt(v[1] * v[1] + v[2] * v[2] + v[3] * v[3] + v[4] * v[4]);
     if (std::abs(qn - 1.0) > 1e-3) {  // allows hand-written CSVs with few digits
-      fail(file, line_no, "fields 'qw,qx,qy,qz': quaternion norm " + std::to_string(qn) + " is not 1");
+      in.fail("fields 'qw,qx,qy,qz': quaternion norm " + std::to_string(qn) + " is not 1");
     }
-    if (!(v[11] >= 0.0)) fail(file, line_no, "field 'thrust_cmd': negative thrust");
-    if (!(v[15] > 0.0)) fail(file, line_no, "field 'mass_true': mass must be positive");
+    if (!(v[11] >= 0.0)) in.fail("field 'thrust_cmd': negative thrust");
+    if (!(v[15] > 0.0)) in.fail("field 'mass_true': mass must be positive");
     MassIdSample s;
     s.t = v[0];
     s.q_WI = Eigen::Quaterniond(v[1], v[2], v[3], v[4]);

@@ -8,10 +8,14 @@
 #include <algorithm>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 #include <variant>
+
+#include "io/errors.h"
+#include "io/strict_yaml.h"
 
 namespace vid::massid::gen {
 namespace {
@@ -71,67 +75,50 @@ std::vector<Field> fields_of(GeneratorSettings& s) {
   };
 }
 
-[[noreturn]] void key_error(const std::string& source, const std::string& key,
-                            const std::string& msg) {
-  throw std::runtime_error(source + ": key '" + key + "': " + msg);
+/// @brief Read field @p f from its section @p m when present (missing keys keep defaults).
+void read_field(const io::YamlMap& m, const Field& f) {
+  if (!m.has(f.key)) return;
+  std::visit(
+      [&](auto* p) {
+        using T = std::remove_pointer_t<decltype(p)>;
+        if constexpr (std::is_same_v<T, double>) {
+          *p = m.get_double(f.key);
+        } else if constexpr (std::is_same_v<T, int>) {
+          *p = m.get_int(f.key);
+        } else if constexpr (std::is_same_v<T, std::uint64_t>) {
+          *p = m.get_u64(f.key);
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          *p = m.get_doubles(f.key);
+        } else {
+          *p = m.get_strings(f.key);
+        }
+      },
+      f.ptr);
 }
 
-void read_field(const YAML::Node& node, const Field& f, const std::string& source) {
-  const std::string name = f.section.empty() ? f.key : f.section + "." + f.key;
-  try {
-    std::visit(
-        [&](auto* p) {
-          using T = std::remove_pointer_t<decltype(p)>;
-          *p = node.as<T>();
-        },
-        f.ptr);
-  } catch (const YAML::Exception& e) {
-    key_error(source, name, "wrong type (" + std::string(e.what()) + ")");
-  }
+/// @brief Unknown keys keep this reader's "FILE: key 'k': unknown key" message (pinned by tests).
+void check_unknown_keys(const io::YamlMap& m) {
+  if (const auto k = m.first_unknown()) throw io::ConfigError(m.file() + ": key '" + *k + "': unknown key");
 }
 
 }  // namespace
 
 GeneratorSettings parse_generator_settings(const std::string& yaml_text,
                                            const std::string& source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(source + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+  const io::YamlMap root = io::YamlMap::from_node(io::YamlMap::parse_string(yaml_text, source), source, "");
   GeneratorSettings s;
-  if (root.IsNull()) return s;
-  if (!root.IsMap()) throw std::runtime_error(source + ": top level must be a map");
   const std::vector<Field> fields = fields_of(s);
-  std::set<std::string> known_top = {"trajectory", "mass", "controller"};
-  for (const Field& f : fields) {
-    if (f.section.empty()) known_top.insert(f.key);
+  std::map<std::string, io::YamlMap> sections = {{"", root}};  // "" = top level
+  for (const std::string name : {"trajectory", "mass", "controller"}) {
+    sections.emplace(name, root.get_map_or_empty(name));
   }
-  for (const auto& kv : root) {
-    const std::string k = kv.first.as<std::string>();
-    if (!known_top.count(k)) key_error(source, k, "unknown key");
-  }
-  for (const std::string section : {"trajectory", "mass", "controller"}) {
-    const YAML::Node sec = root[section];
-    if (!sec) continue;
-    if (!sec.IsMap()) key_error(source, section, "must be a map");
-    for (const auto& kv : sec) {
-      const std::string k = kv.first.as<std::string>();
-      const bool known = std::any_of(fields.begin(), fields.end(), [&](const Field& f) {
-        return f.section == section && f.key == k;
-      });
-      if (!known) key_error(source, section + "." + k, "unknown key");
-    }
-  }
-  for (const Field& f : fields) {
-    const YAML::Node n = f.section.empty() ? root[f.key] : root[f.section][f.key];
-    if (n) read_field(n, f, source);
-  }
+  for (const Field& f : fields) sections.at(f.section).accept(f.key);
+  for (const auto& kv : sections) check_unknown_keys(kv.second);  // before any type error
+  for (const Field& f : fields) read_field(sections.at(f.section), f);
   try {
     validate(s);
   } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(source + ": " + e.what());
+    throw io::ConfigError(source + ": " + e.what());
   }
   return s;
 }
@@ -172,6 +159,17 @@ std::string generator_settings_yaml(const GeneratorSettings& settings) {
   if (!open_section.empty()) out << YAML::EndMap;
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
+}
+
+bool operator==(const GeneratorSettings& a_in, const GeneratorSettings& b_in) {
+  GeneratorSettings a = a_in, b = b_in;  // fields_of hands out member pointers of a mutable struct
+  const std::vector<Field> fa = fields_of(a), fb = fields_of(b);
+  for (std::size_t i = 0; i < fa.size(); ++i) {
+    const bool same = std::visit(
+        [&](auto* p) { return *p == *std::get<decltype(p)>(fb[i].ptr); }, fa[i].ptr);
+    if (!same) return false;
+  }
+  return true;
 }
 
 void validate(const GeneratorSettings& s) {

@@ -5,6 +5,10 @@
 #include <filesystem>
 #include <string>
 
+namespace vid::io {
+class YamlMap;
+}
+
 namespace vid::lcm_io {
 
 /// @brief Channel names. The YAML file has any of the keys imu, cam0, cam1, rotors, thrust,
@@ -18,9 +22,16 @@ struct ChannelNames {
   std::string state = "VID_STATE";
   std::string force = "VID_FORCE";
   std::string status = "VID_STATUS";
+
+  bool operator==(const ChannelNames&) const = default;
 };
 
-/// @brief Load channel names; throws io::ConfigError naming the file and key at fault.
+/// @brief Channel names from a parsed map (missing keys keep defaults); throws
+/// io::ConfigError naming the file and key at fault.
+ChannelNames parse_channels(const io::YamlMap& m);
+/// @brief Load channel names from a YAML file (an empty file = defaults).
 ChannelNames load_channels(const std::filesystem::path& yaml_file);
+/// @brief All channel names as a YAML block ("imu: IMU\n..."); parse_channels reads it back.
+std::string print(const ChannelNames& c);
 
 }  // namespace vid::lcm_io

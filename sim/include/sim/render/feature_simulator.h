@@ -61,7 +61,7 @@ struct FeatureSimConfig {
   std::uint64_t seed = 1;
 };
 
-/// @brief Parse a `features:` YAML map (strict keys; errors name file and key).
+/// @brief Parse (with io::YamlMap; a null node = all defaults) a `features:` YAML map (strict keys; errors name file and key).
 FeatureSimConfig parse_feature_sim_config(const YAML::Node& node, const std::string& file);
 
 /// @brief A 3-D point on a scene surface; its id is the feature id of its one track.

@@ -47,7 +47,7 @@ struct RenderConfig {
   std::uint64_t seed = 1;
 };
 
-/// @brief Parse a `render:` YAML map (strict keys; errors name file and key).
+/// @brief Parse (with io::YamlMap; a null node = all defaults) a `render:` YAML map (strict keys; errors name file and key).
 RenderConfig parse_render_config(const YAML::Node& node, const std::string& file);
 
 /// @brief Photometric settings of one image: out = gain * radiance + offset + N(0, sigma^2).

@@ -61,7 +61,7 @@ struct SceneConfig {
   CheckerboardConfig checkerboard;
 };
 
-/// @brief Parse a `scene:` YAML map. Missing keys keep their defaults; unknown keys and bad
+/// @brief Parse (with io::YamlMap; a null node = all defaults) a `scene:` YAML map. Missing keys keep their defaults; unknown keys and bad
 /// values throw vid::io::ConfigError naming `file` and the key (e.g. "scene.boxes.count").
 SceneConfig parse_scene_config(const YAML::Node& scene_node, const std::string& file);
 

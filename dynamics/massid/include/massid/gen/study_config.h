@@ -91,6 +91,8 @@ GeneratorSettings parse_generator_settings(const std::string& yaml_text, const s
 GeneratorSettings load_generator_settings(const std::filesystem::path& file);
 /// @brief The settings as YAML text (parse_generator_settings gives them back).
 std::string generator_settings_yaml(const GeneratorSettings& settings);
+/// @brief Field-wise equality over the same table that parses and prints.
+bool operator==(const GeneratorSettings& a, const GeneratorSettings& b);
 /// @brief Check ranges and names. @throws std::invalid_argument naming the key
 void validate(const GeneratorSettings& settings);
 
