@@ -16,10 +16,10 @@
 
 #include "consistency.h"
 #include "frontend/camera_model.h"
+#include "geometry/so3.h"
 #include "io/dataset_reader.h"
 #include "vio_core/initializer.h"
 #include "vio_core/pipeline.h"
-#include "vio_core/so3.h"
 #include "vio_core/thrust.h"
 
 namespace vid::test {
