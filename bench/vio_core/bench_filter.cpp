@@ -6,11 +6,11 @@
 #include <random>
 #include <vector>
 
+#include "geometry/so3.h"
 #include "vio_core/ekf_update.h"
 #include "vio_core/force_jump.h"
 #include "vio_core/initializer.h"
 #include "vio_core/propagation.h"
-#include "vio_core/so3.h"
 
 namespace {
 using namespace vid;

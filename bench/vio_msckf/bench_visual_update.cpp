@@ -94,8 +94,7 @@ BENCHMARK(BM_BuildVisualUpdate)
 /// Filter state of the pipeline (dynamics mode, default force model) whose clones are the
 /// setup's clones, with a dense random covariance over all of it.
 vid::FilterState make_state(const Setup& s) {
-  const vid::EstimatorParams ep;
-  vid::FilterState st(true, ep.force_frame, ep.force_rate_random_walk > 0.0);
+  vid::FilterState st{vid::EstimatorParams{}};
   st.initialize(0, vid::ImuState{}, Eigen::MatrixXd::Identity(st.imu_dim(), st.imu_dim()));
   for (const ClonePose& c : s.clones) {
     st.set_time(c.t_ns);

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "dynamics/rotation_helpers.h"
 
 namespace vid::dynamics {
 

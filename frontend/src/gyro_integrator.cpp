@@ -3,16 +3,9 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 
+#include "geometry/so3.h"
+
 namespace vid {
-namespace {
-
-Eigen::Matrix3d exp_so3(const Eigen::Vector3d& w) {
-  const double a = w.norm();
-  if (a < 1e-12) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(a, w / a).toRotationMatrix();
-}
-
-}  // namespace
 
 void GyroIntegrator::add(const ImuSample& s) {
   if (!buf_.empty() && s.t_ns <= buf_.back().t_ns) return;
@@ -45,12 +38,12 @@ std::optional<Eigen::Matrix3d> GyroIntegrator::rotation(TimeNs t0, TimeNs t1,
                              [](TimeNs v, const ImuSample& s) { return v < s.t_ns; });
   for (; it != buf_.end() && it->t_ns < t1; ++it) {
     const double dt = ns_to_s(it->t_ns - ta);
-    R = R * exp_so3(0.5 * (wa + it->gyro_I) * dt);
+    R = R * so3::exp_aa(0.5 * (wa + it->gyro_I) * dt);
     ta = it->t_ns;
     wa = it->gyro_I;
   }
   const Eigen::Vector3d wb = rate_at(t1);
-  R = R * exp_so3(0.5 * (wa + wb) * ns_to_s(t1 - ta));
+  R = R * so3::exp_aa(0.5 * (wa + wb) * ns_to_s(t1 - ta));
   return R;
 }
 

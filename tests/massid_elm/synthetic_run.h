@@ -10,6 +10,7 @@
 #include <functional>
 #include <random>
 
+#include "geometry/so3.h"
 #include "massid/run_data.h"
 
 namespace vid::massid::elm::testing {
@@ -49,16 +50,14 @@ inline MassIdRun make_synthetic_run(const SyntheticSpec& s) {
     MassIdSample x;
     x.t = t;
     x.q_WI = attitude(t);
-    const Eigen::AngleAxisd step(x.q_WI.conjugate() * attitude(t + dt));
-    x.w_I = step.angle() * step.axis() / dt;
+    x.w_I = so3::quat_log(x.q_WI.conjugate() * attitude(t + dt)) / dt;
     x.thrust_cmd = thrust_vector(t).norm();
     x.mass_true = s.mass(t);
     x.p_WI = p;
     x.v_WI = v + s.sigma_v * Eigen::Vector3d(n(rng), n(rng), n(rng));
     run.samples.push_back(x);
     // Zero-order-hold step to the next sample.
-    const Eigen::Quaterniond half(Eigen::AngleAxisd(0.5 * dt * x.w_I.norm(),
-                                                    x.w_I.norm() > 0 ? x.w_I.normalized() : Eigen::Vector3d::UnitZ()));
+    const Eigen::Quaterniond half = so3::quat_exp_aa(0.5 * dt * x.w_I);
     const Eigen::Vector3d a = x.thrust_cmd / x.mass_true * ((x.q_WI * half) * Eigen::Vector3d::UnitZ()) - g_e;
     p += dt * v + 0.5 * dt * dt * a;
     v += dt * a;

@@ -5,8 +5,8 @@
 
 #include <random>
 
+#include "geometry/so3.h"
 #include "massid/filters/mass_change_detector.h"
-#include "vio_core/so3.h"
 
 namespace vid::massid {
 namespace {

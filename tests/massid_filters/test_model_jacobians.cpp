@@ -5,9 +5,9 @@
 
 #include <random>
 
+#include "geometry/so3.h"
 #include "massid/filters/quadrotor_mass_model.h"
 #include "massid/filters/swls_residuals.h"
-#include "vio_core/so3.h"
 
 namespace vid::massid {
 namespace {

@@ -26,7 +26,7 @@ Tracking tracking_of(const SimulatedRun& run, double t_from) {
   int n = 0;
   for (size_t k = 0; k < run.truth.size(); ++k) {
     if (run.run.samples[k].t < t_from) continue;
-    const double e = (run.truth[k].p_WI - run.truth[k].p_ref_W).norm();
+    const double e = (run.truth[k].T_WI.p - run.truth[k].p_ref_W).norm();
     tr.rmse += e * e;
     tr.max_err = std::max(tr.max_err, e);
     ++n;
@@ -110,7 +110,7 @@ TEST(MassIdController, StaysStableWithTwentyPercentMassErrorOnEveryProfile) {
       EXPECT_LT(late.rmse, 1.5 * tr.rmse + 0.02) << traj << " " << prof;
       // Upright throughout.
       for (const auto& t : run.truth) {
-        ASSERT_GT((t.q_WI * Eigen::Vector3d::UnitZ()).z(), std::cos(60.0 * M_PI / 180.0));
+        ASSERT_GT((t.T_WI.q * Eigen::Vector3d::UnitZ()).z(), std::cos(60.0 * M_PI / 180.0));
       }
     }
   }

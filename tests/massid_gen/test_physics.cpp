@@ -31,7 +31,7 @@ void check_run(const std::string& traj, const std::string& profile, bool mass_li
     const MassIdSample& a = x[k];
     const MassIdSample& b = x[k + 1];
     ASSERT_NEAR(b.t - a.t, dt, 1e-12);
-    EXPECT_EQ(a.p_WI, sim.truth[k].p_WI);  // noise off: measured = true
+    EXPECT_EQ(a.p_WI, sim.truth[k].T_WI.p);  // noise off: measured = true
     EXPECT_EQ(a.v_WI, sim.truth[k].v_WI);
     const Eigen::Matrix3d R_k = a.q_WI.toRotationMatrix();
     const double w_norm = a.w_I.norm();
@@ -82,9 +82,9 @@ TEST(MassIdPhysics, MeasurementNoiseHasTheStatedSigmas) {
   double sp = 0, sv = 0, sq = 0;
   const size_t n = sim.truth.size();
   for (size_t k = 0; k < n; ++k) {
-    sp += (sim.run.samples[k].p_WI - sim.truth[k].p_WI).squaredNorm();
+    sp += (sim.run.samples[k].p_WI - sim.truth[k].T_WI.p).squaredNorm();
     sv += (sim.run.samples[k].v_WI - sim.truth[k].v_WI).squaredNorm();
-    const Eigen::AngleAxisd d(sim.truth[k].q_WI.conjugate() * sim.run.samples[k].q_WI);
+    const Eigen::AngleAxisd d(sim.truth[k].T_WI.q.conjugate() * sim.run.samples[k].q_WI);
     sq += d.angle() * d.angle();
   }
   // Per-axis sigma from 3n draws: relative standard error ~ 1/sqrt(6n) < 1 %.

@@ -10,7 +10,6 @@
 
 #include <map>
 
-#include "dynamics/rotation_helpers.h"
 #include "sim_test_util.h"
 
 namespace vid::sim::test {

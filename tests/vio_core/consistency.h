@@ -5,7 +5,7 @@
 #include <random>
 #include <utility>
 
-#include "vio_core/so3.h"
+#include "geometry/so3.h"
 #include "vio_core/state.h"
 
 namespace vid::test {

@@ -4,10 +4,10 @@
 #include <vector>
 
 #include "consistency.h"
+#include "geometry/so3.h"
 #include "synthetic.h"
 #include "vio_core/initializer.h"
 #include "vio_core/pipeline.h"
-#include "vio_core/so3.h"
 
 namespace vid::test {
 

@@ -15,10 +15,10 @@
 #include <unistd.h>
 
 #include "consistency.h"
+#include "geometry/so3.h"
 #include "vid_system/metrics.h"
 #include "vid_system/system.h"
 #include "vio_core/initializer.h"
-#include "vio_core/so3.h"
 #include "vio_core/thrust.h"
 
 namespace vid::test {

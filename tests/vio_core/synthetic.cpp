@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "vio_core/so3.h"
+#include "geometry/so3.h"
 
 namespace vid::test {
 namespace {

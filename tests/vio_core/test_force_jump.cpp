@@ -4,9 +4,9 @@
 
 #include <random>
 
+#include "geometry/so3.h"
 #include "vio_core/ekf_update.h"
 #include "vio_core/force_jump.h"
-#include "vio_core/so3.h"
 
 namespace vid {
 namespace {

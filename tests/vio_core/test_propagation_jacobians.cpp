@@ -3,9 +3,9 @@
 // central numeric differentiation of the discrete maps.
 #include <gtest/gtest.h>
 
+#include "geometry/so3.h"
 #include "vio_core/ekf_update.h"
 #include "vio_core/propagation.h"
-#include "vio_core/so3.h"
 
 namespace {
 using namespace vid;

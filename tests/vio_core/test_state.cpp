@@ -4,8 +4,9 @@
 
 #include <random>
 
+#include "geometry/so3.h"
+#include "vio_core/chi2.h"
 #include "vio_core/ekf_update.h"
-#include "vio_core/so3.h"
 #include "vio_core/state.h"
 
 namespace {
@@ -42,8 +43,8 @@ TEST(FilterState, AugmentationCopiesImuPoseBlock) {
   const CloneState& c = s.clones().back();
   EXPECT_EQ(c.cov_index, 18);
   EXPECT_EQ(c.t_ns, 1000);
-  EXPECT_TRUE(c.q_WI.isApprox(s.imu().q_WI));
-  EXPECT_TRUE(c.p_WI_fej.isApprox(s.imu_fej().p_WI));
+  EXPECT_TRUE(c.T_WI.q.isApprox(s.imu().q_WI));
+  EXPECT_TRUE(c.T_WI_fej.p.isApprox(s.imu_fej().p_WI));
   // P_new = J P J^T with J = [I; selection of dtheta, dp]
   MatrixXd J = MatrixXd::Zero(24, 18);
   J.topRows(18).setIdentity();
@@ -90,7 +91,7 @@ TEST(FilterState, CalibPoseInsertedAfterImuShiftsClones) {
   VectorXd dx = VectorXd::Zero(s.dim());
   dx(21) = 0.5;
   s.apply_correction(dx);
-  EXPECT_NEAR(s.calib_poses()[k].p.x(), 0.6, 1e-15);
+  EXPECT_NEAR(s.calib_poses()[k].T.p.x(), 0.6, 1e-15);
 }
 
 TEST(FilterState, HealthDetectsNonPdAndNaN) {
@@ -127,14 +128,14 @@ TEST(EkfUpdate, SparseGenericUpdateMatchesDense) {
   MatrixXd P_ref = s.P();
   VectorXd dx_ref;
   dense_update(P_ref, H, r, R, &dx_ref);
-  const Vector3d p_clone_before = s.clones()[1].p_WI;
+  const Vector3d p_clone_before = s.clones()[1].T_WI.p;
   const UpdateResult res = ekf_update(s, H, r, R);
   ASSERT_TRUE(res.applied);
   EXPECT_LT((s.P() - P_ref).norm(), 1e-12);
-  EXPECT_LT((s.clones()[1].p_WI - p_clone_before - dx_ref.segment<3>(27)).norm(), 1e-12);
+  EXPECT_LT((s.clones()[1].T_WI.p - p_clone_before - dx_ref.segment<3>(27)).norm(), 1e-12);
   // gating rejects a huge residual and leaves the state untouched
   const MatrixXd P_after = s.P();
-  const UpdateResult gated = ekf_update(s, H, r * 1e4, R, chi2_quantile(5, 0.95));
+  const UpdateResult gated = ekf_update(s, H, r * 1e4, R, chi2_quantile(0.95, 5));
   EXPECT_FALSE(gated.applied);
   EXPECT_GT(gated.chi2, gated.threshold);
   EXPECT_EQ((s.P() - P_after).norm(), 0.0);
@@ -179,6 +180,15 @@ TEST(FilterState, ForceRateStateExtendsTheImuBlock) {
   EXPECT_EQ(FilterState(true, ForceFrame::kWorld, true).imu_dim(), 21);
   EXPECT_EQ(FilterState(true, ForceFrame::kWorld, false).imu_dim(), 18);
   EXPECT_EQ(FilterState(false, ForceFrame::kWorld, true).imu_dim(), 15);  // no force, no rate
+  // The layout from the estimator settings: the defaults are EstimatorParams'.
+  const EstimatorParams params;
+  const FilterState from_params(params);
+  EXPECT_EQ(from_params.with_force(), params.mode == PropagationMode::kDynamics);
+  EXPECT_EQ(from_params.force_frame(), params.force_frame);
+  EXPECT_EQ(from_params.with_force_rate(), params.force_rate_random_walk > 0.0);
+  EstimatorParams imu_mode;
+  imu_mode.mode = PropagationMode::kImu;
+  EXPECT_EQ(FilterState(imu_mode).imu_dim(), 15);
   FilterState s = make_state(true, ForceFrame::kWorld, true);
   s.augment_clone();
   EXPECT_EQ(s.clones().front().cov_index, 21);
@@ -194,13 +204,6 @@ TEST(ForceFrames, BodyAndWorldViewsAgree) {
   set_force_from_body(x, ForceFrame::kBody, F_I);
   EXPECT_EQ(x.F_ext, F_I);
   EXPECT_LT((force_in_world(x, ForceFrame::kBody) - x.q_WI * F_I).norm(), 1e-15);
-}
-
-TEST(EkfUpdate, Chi2Quantiles) {
-  EXPECT_NEAR(chi2_quantile(3, 0.99), 11.345, 1e-3);
-  EXPECT_NEAR(chi2_quantile(1, 0.95), 3.841, 1e-3);
-  EXPECT_NEAR(chi2_quantile(30, 0.95), 43.773, 0.1);
-  EXPECT_NEAR(chi2_quantile(100, 0.99), 135.807, 0.5);
 }
 
 }  // namespace

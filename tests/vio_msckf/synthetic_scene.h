@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
+#include "geometry/so3.h"
 #include "vio_core/msckf/msckf_types.h"
 #include "vio_core/msckf/projection.h"
-#include "vio_core/so3.h"
 
 namespace vid::msckf::testing {
 

@@ -117,20 +117,5 @@ TEST(NormalEquationFactor, ReproducesNormalEquationsOfRankDeficientSystem) {
                std::invalid_argument);
 }
 
-TEST(Chi2, QuantilesMatchTables) {
-  // Standard table values of the chi-square distribution.
-  EXPECT_NEAR(chi2_95(1), 3.841459, 1e-5);
-  EXPECT_NEAR(chi2_95(2), 5.991465, 1e-5);
-  EXPECT_NEAR(chi2_95(5), 11.070498, 1e-5);
-  EXPECT_NEAR(chi2_95(10), 18.307038, 1e-5);
-  EXPECT_NEAR(chi2_95(41), 56.942386, 1e-4);
-  EXPECT_NEAR(chi2_95(100), 124.342113, 1e-4);
-  EXPECT_NEAR(chi2_95(500), 553.126954, 1e-3);  // beyond the cached table
-  EXPECT_NEAR(chi2_quantile(0.99, 3), 11.344867, 1e-5);
-  EXPECT_NEAR(chi2_quantile(0.05, 4), 0.710723, 1e-5);
-  EXPECT_THROW(chi2_quantile(1.0, 3), std::invalid_argument);
-  EXPECT_THROW(chi2_quantile(0.5, 0), std::invalid_argument);
-}
-
 }  // namespace
 }  // namespace vid::msckf

@@ -6,9 +6,9 @@
 #include <functional>
 #include <random>
 
+#include "geometry/so3.h"
 #include "vio_core/msckf/projection.h"
 #include "vio_core/msckf/triangulation.h"
-#include "vio_core/so3.h"
 
 namespace vid::msckf {
 namespace {

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "synthetic_scene.h"
+#include "vio_core/chi2.h"
 #include "vio_core/msckf/linear_algebra.h"
 #include "vio_core/msckf/visual_update.h"
 

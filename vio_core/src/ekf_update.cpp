@@ -6,32 +6,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "vio_core/so3.h"
+#include "geometry/so3.h"
 
 namespace vid {
-
-double chi2_quantile(int dof, double prob) {
-  static const double k95[] = {3.841, 5.991, 7.815, 9.488, 11.070,
-                               12.592, 14.067, 15.507, 16.919, 18.307};
-  static const double k99[] = {6.635, 9.210, 11.345, 13.277, 15.086,
-                               16.812, 18.475, 20.090, 21.666, 23.209};
-  if (dof <= 0) throw std::invalid_argument("chi2_quantile: dof must be > 0");
-  double z;
-  if (std::abs(prob - 0.95) < 1e-12) {
-    if (dof <= 10) return k95[dof - 1];
-    z = 1.6448536269514722;
-  } else if (std::abs(prob - 0.99) < 1e-12) {
-    if (dof <= 10) return k99[dof - 1];
-    z = 2.3263478740408408;
-  } else {
-    throw std::invalid_argument("chi2_quantile: only 0.95 and 0.99 are supported");
-  }
-  // Wilson-Hilferty: accurate to < 0.5% for dof > 10.
-  const double k = dof;
-  const double a = 2.0 / (9.0 * k);
-  const double c = 1.0 - a + z * std::sqrt(a);
-  return k * c * c * c;
-}
 
 UpdateResult ekf_update_columns(FilterState& state, const std::vector<int>& cols,
                                 const Eigen::MatrixXd& H_cols, const Eigen::VectorXd& r,

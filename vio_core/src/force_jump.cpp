@@ -8,8 +8,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "geometry/so3.h"
 #include "vio_core/ekf_update.h"
-#include "vio_core/so3.h"
 
 namespace vid {
 

@@ -7,12 +7,13 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "geometry/so3.h"
+#include "vio_core/chi2.h"
 #include "vio_core/ekf_update.h"
 #include "vio_core/msckf/clone_poses.h"
 #include "vio_core/msckf/feature_database.h"
 #include "vio_core/msckf/visual_update.h"
 #include "vio_core/propagation.h"
-#include "vio_core/so3.h"
 #include "vio_core/thrust.h"
 
 namespace vid {
@@ -40,8 +41,7 @@ std::string to_string(FilterStatus s) {
 
 Pipeline::Pipeline(PipelineConfig config)
     : config_(std::move(config)),
-      state_(config_.params.mode == PropagationMode::kDynamics, config_.params.force_frame,
-             config_.params.force_rate_random_walk > 0.0),
+      state_(config_.params),
       initializer_(config_.params),
       thrust_(seconds_to_ns(config_.params.rotor_gap_s)),
       features_(std::make_unique<msckf::FeatureDatabase>()),
@@ -100,7 +100,7 @@ void Pipeline::record_rejected(TimeNs t) {
 void Pipeline::accel_step(const ImuInput& in) {
   const EstimatorParams& p = config_.params;
   const double noise_var = p.accel_noise_density * p.accel_noise_density * p.imu_rate_hz;
-  const double thr = p.accel_chi2_gating ? p.accel_chi2_multiplier * chi2_quantile(3, 0.99) : 0.0;
+  const double thr = p.accel_chi2_gating ? p.accel_chi2_multiplier * chi2_quantile(0.99, 3) : 0.0;
   if (!p.force_jump_detection) {
     if (accel_update(state_, in.accel, in.T_m, noise_var, thr).applied) {
       ++counters_.accel_updates;

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "vio_core/so3.h"
+#include "geometry/so3.h"
 
 namespace vid {
 namespace {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "vio_core/so3.h"
+#include "geometry/so3.h"
 
 namespace vid {
 
@@ -22,6 +22,10 @@ Eigen::Vector3d force_in_world(const ImuState& x, ForceFrame frame) {
 void set_force_from_body(ImuState& x, ForceFrame frame, const Eigen::Vector3d& F_I) {
   x.F_ext = frame == ForceFrame::kBody ? F_I : Eigen::Vector3d(x.q_WI * F_I);
 }
+
+FilterState::FilterState(const EstimatorParams& params)
+    : FilterState(params.mode == PropagationMode::kDynamics, params.force_frame,
+                  params.force_rate_random_walk > 0.0) {}
 
 FilterState::FilterState(bool with_force, ForceFrame force_frame, bool with_force_rate)
     : with_force_(with_force), force_frame_(force_frame), with_force_rate_(with_force && with_force_rate) {
@@ -62,10 +66,8 @@ void FilterState::augment_clone() {
 
   CloneState c;
   c.t_ns = t_ns_;
-  c.q_WI = imu_.q_WI;
-  c.p_WI = imu_.p_WI;
-  c.q_WI_fej = imu_fej_.q_WI;
-  c.p_WI_fej = imu_fej_.p_WI;
+  c.T_WI = {imu_.q_WI, imu_.p_WI};
+  c.T_WI_fej = {imu_fej_.q_WI, imu_fej_.p_WI};
   c.cov_index = n;
   clones_.push_back(c);
 }
@@ -111,8 +113,7 @@ int FilterState::add_calib_pose(const std::string& name, const Eigen::Quaternion
   for (CloneState& c : clones_) c.cov_index += 6;
   CalibPose cp;
   cp.name = name;
-  cp.q = so3::normalized(q);
-  cp.p = p;
+  cp.T = {so3::normalized(q), p};
   cp.cov_index = at;
   calib_.push_back(cp);
   return static_cast<int>(calib_.size()) - 1;
@@ -131,12 +132,12 @@ void FilterState::apply_correction(const Eigen::VectorXd& dx) {
   if (with_force_) imu_.F_ext += dx.segment<3>(imu_idx::kF);
   if (with_force_rate_) imu_.F_dot += dx.segment<3>(imu_idx::kFdot);
   for (CalibPose& c : calib_) {
-    c.q = so3::boxplus(c.q, dx.segment<3>(c.cov_index));
-    c.p += dx.segment<3>(c.cov_index + 3);
+    c.T.q = so3::boxplus(c.T.q, dx.segment<3>(c.cov_index));
+    c.T.p += dx.segment<3>(c.cov_index + 3);
   }
   for (CloneState& c : clones_) {
-    c.q_WI = so3::boxplus(c.q_WI, dx.segment<3>(c.cov_index));
-    c.p_WI += dx.segment<3>(c.cov_index + 3);
+    c.T_WI.q = so3::boxplus(c.T_WI.q, dx.segment<3>(c.cov_index));
+    c.T_WI.p += dx.segment<3>(c.cov_index + 3);
   }
 }
 

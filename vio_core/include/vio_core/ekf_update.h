@@ -53,8 +53,4 @@ AccelJacobian accel_jacobian(const ImuState& x, const Eigen::Quaterniond& q_WI_l
 UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
                           double noise_var, double chi2_threshold, AccelInnovation* info = nullptr);
 
-/// @brief 0.95 / 0.99 quantiles of chi2 with dof degrees of freedom (Wilson-Hilferty for
-/// large dof, table for dof <= 10).
-double chi2_quantile(int dof, double prob);
-
 }  // namespace vid

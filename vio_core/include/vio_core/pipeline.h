@@ -145,7 +145,6 @@ class Pipeline {
     Eigen::Vector3d gyro, accel, T_m;
     bool thrust_held;
   };
-  void on_imu(const ImuSample& s);
   void drain(bool force);
   void process_imu(const ImuInput& in);
   void integrate_to(const ImuInput& a, const ImuInput& b, TimeNs t_end, double noise_scale,

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/pose.h"
 #include "vio_core/estimator_params.h"
 #include "vio_core/measurements.h"
 
@@ -61,21 +62,19 @@ struct ImuFej {
   Eigen::Vector3d v_WI = Eigen::Vector3d::Zero();
 };
 
-/// @brief Stochastic clone of the IMU pose at a camera time.
+/// @brief Stochastic clone of the IMU pose at a camera time (msckf::ClonePose is its
+/// rotation-matrix form for the visual update).
 struct CloneState {
   TimeNs t_ns = 0;
-  Eigen::Quaterniond q_WI = Eigen::Quaterniond::Identity();
-  Eigen::Vector3d p_WI = Eigen::Vector3d::Zero();
-  Eigen::Quaterniond q_WI_fej = Eigen::Quaterniond::Identity();
-  Eigen::Vector3d p_WI_fej = Eigen::Vector3d::Zero();
+  Pose T_WI;      ///< current estimate
+  Pose T_WI_fej;  ///< first estimate (the IMU's when the clone was taken)
   int cov_index = -1;  ///< column of [dtheta, dp] in P
 };
 
 /// @brief A calibration pose (e.g. camera extrinsic T_IC) estimated in the filter.
 struct CalibPose {
-  std::string name;
-  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  std::string name;  ///< names the frames, e.g. "T_IC0"
+  Pose T;
   int cov_index = -1;  ///< column of [dtheta, dp] in P
 };
 
@@ -89,11 +88,15 @@ struct CovarianceHealth {
 /// @brief IMU block + calibration + clones with one joint covariance.
 class FilterState {
  public:
+  /// @brief The layout the estimator settings ask for: F_ext in dynamics mode, in
+  /// params.force_frame, with dF_ext/dt when params.force_rate_random_walk > 0 (the defaults
+  /// are EstimatorParams', written once there).
+  explicit FilterState(const EstimatorParams& params);
+  /// @brief An explicit layout (tests, benchmarks).
   /// @param with_force true in dynamics mode (adds F_ext to the IMU block).
   /// @param force_frame frame of the F_ext state
   /// @param with_force_rate adds dF_ext/dt after F_ext (needs with_force)
-  explicit FilterState(bool with_force = true, ForceFrame force_frame = ForceFrame::kBody,
-                       bool with_force_rate = false);
+  FilterState(bool with_force, ForceFrame force_frame, bool with_force_rate);
 
   /// @brief Reset to one IMU block with the given mean and covariance (no clones, no calib).
   void initialize(TimeNs t_ns, const ImuState& imu, const Eigen::MatrixXd& P_imu);

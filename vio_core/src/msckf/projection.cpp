@@ -3,7 +3,7 @@
 
 #include "vio_core/msckf/projection.h"
 
-#include "vio_core/so3.h"
+#include "geometry/so3.h"
 
 namespace vid::msckf {
 

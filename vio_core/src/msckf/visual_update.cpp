@@ -10,6 +10,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "vio_core/chi2.h"
 #include "vio_core/msckf/innovation.h"
 #include "vio_core/msckf/linear_algebra.h"
 #include "vio_core/msckf/projection.h"

@@ -13,8 +13,8 @@
 #include <deque>
 #include <stdexcept>
 
+#include "geometry/so3.h"
 #include "massid/filters/mass_change_detector.h"
-#include "vio_core/so3.h"
 
 namespace vid::massid {
 namespace {

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "dynamics/rotation_helpers.h"
+#include "geometry/so3.h"
 #include "massid/gen/mass_profile.h"
 #include "massid/gen/mpc_controller.h"
 #include "massid/gen/reference_trajectory.h"
@@ -36,7 +36,7 @@ struct TranslationalModel {
   const MassProfile* mass;
 
   Eigen::Vector3d accel(double s) const {
-    const Eigen::Matrix3d R = R_WI_k * dynamics::quat_exp(w_I * (s - t_k)).toRotationMatrix();
+    const Eigen::Matrix3d R = R_WI_k * so3::quat_exp_aa(w_I * (s - t_k)).toRotationMatrix();
     // Steps are on the sample grid and right-continuous: sample the mass inside the interval
     // so a step at t_{k+1} does not leak into [t_k, t_{k+1}).
     const double m = mass->mass_kg(std::min(s, t_k_end - 1e-9 * (t_k_end - t_k)));
@@ -110,9 +110,8 @@ SimulatedRun simulate_run(const GeneratorSettings& s, const std::string& traject
   };
   for (long k = 0; k < n; ++k) {
     const double t = static_cast<double>(k) / s.rate_hz;
-    TruthSample truth;
-    truth.q_WI = q_WI;
-    truth.p_WI = p_WI;
+    RunTruthSample truth;
+    truth.T_WI = {q_WI, p_WI};
     truth.v_WI = v_WI;
     truth.p_ref_W = reference->at(t).p_W;
     sq_err += (p_WI - truth.p_ref_W).squaredNorm();
@@ -120,7 +119,7 @@ SimulatedRun simulate_run(const GeneratorSettings& s, const std::string& traject
     MassIdSample sample;
     sample.t = t;
     // q noise is a local (right) perturbation: q_meas = q ⊗ exp(n_q / 2).
-    sample.q_WI = (q_WI * dynamics::quat_exp(gauss3(s.sigma_q))).normalized();
+    sample.q_WI = (q_WI * so3::quat_exp_aa(gauss3(s.sigma_q))).normalized();
     sample.p_WI = p_WI + gauss3(s.sigma_p);
     sample.v_WI = v_WI + gauss3(s.sigma_v);
     const ControlOutput u = controller.compute(t, sample.q_WI, sample.p_WI, sample.v_WI, *reference);
@@ -140,7 +139,7 @@ SimulatedRun simulate_run(const GeneratorSettings& s, const std::string& traject
     TranslationalModel model{q_WI.toRotationMatrix(), u.w_I, u.thrust_N, t, t_next, g_W, &mass};
     const double h = (t_next - t) / s.integration_substeps;
     for (int i = 0; i < s.integration_substeps; ++i) model.rk4(t + i * h, h, &p_WI, &v_WI);
-    q_WI = (q_WI * dynamics::quat_exp(u.w_I * (t_next - t))).normalized();
+    q_WI = (q_WI * so3::quat_exp_aa(u.w_I * (t_next - t))).normalized();
   }
   out.stats.position_rmse_m = std::sqrt(sq_err / static_cast<double>(n));
   out.stats.saturated_fraction = static_cast<double>(saturated) / static_cast<double>(n);
@@ -156,11 +155,11 @@ void write_truth_csv(const std::filesystem::path& file, const SimulatedRun& run)
     text += ',';
   };
   for (size_t k = 0; k < run.truth.size(); ++k) {
-    const TruthSample& x = run.truth[k];
+    const RunTruthSample& x = run.truth[k];
     add(run.run.samples[k].t);
-    for (int i = 0; i < 3; ++i) add(x.p_WI[i]);
-    add(x.q_WI.w());
-    for (int i = 0; i < 3; ++i) add(x.q_WI.vec()[i]);
+    for (int i = 0; i < 3; ++i) add(x.T_WI.p[i]);
+    add(x.T_WI.q.w());
+    for (int i = 0; i < 3; ++i) add(x.T_WI.q.vec()[i]);
     for (int i = 0; i < 3; ++i) add(x.v_WI[i]);
     for (int i = 0; i < 3; ++i) add(x.p_ref_W[i]);
     for (int i = 0; i < 3; ++i) add(x.a_cmd_W[i]);

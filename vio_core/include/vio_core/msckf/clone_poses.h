@@ -17,10 +17,10 @@ inline std::vector<ClonePose> clone_poses(const FilterState& state) {
   for (const CloneState& c : state.clones()) {
     ClonePose cp;
     cp.t_ns = c.t_ns;
-    cp.R_WI = c.q_WI.toRotationMatrix();
-    cp.R_WI_fej = c.q_WI_fej.toRotationMatrix();
-    cp.p_WI = c.p_WI;
-    cp.p_WI_fej = c.p_WI_fej;
+    cp.R_WI = c.T_WI.R();
+    cp.R_WI_fej = c.T_WI_fej.R();
+    cp.p_WI = c.T_WI.p;
+    cp.p_WI_fej = c.T_WI_fej.p;
     cp.cov_index = c.cov_index;
     clones.push_back(cp);
   }

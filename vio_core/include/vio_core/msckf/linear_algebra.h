@@ -1,7 +1,7 @@
 #pragma once
 /// @file linear_algebra.h
 /// @brief MSCKF linear-algebra steps: left-nullspace projection of a feature Jacobian,
-/// QR measurement compression, and the chi2 quantile used by the gate.
+/// QR measurement compression (the gate's quantile is vio_core/chi2.h).
 
 #include <Eigen/Core>
 #include <Eigen/QR>
@@ -66,11 +66,5 @@ void compress_qr(Eigen::MatrixXd* H, Eigen::VectorXd* r);
 void factor_normal_equations(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
                              Eigen::MatrixXd* H_c, Eigen::VectorXd* r_c,
                              double rel_tol = 1e-12);
-
-/// @brief chi2 quantile: x with P(chi2_dof <= x) = p (0 < p < 1, dof >= 1).
-double chi2_quantile(double p, int dof);
-
-/// @brief chi2 95% quantile, cached for small dof.
-double chi2_95(int dof);
 
 }  // namespace vid::msckf

@@ -15,15 +15,16 @@
 #include <string>
 #include <vector>
 
+#include "geometry/pose.h"
 #include "massid/gen/study_config.h"
 #include "massid/run_data.h"
 
 namespace vid::massid::gen {
 
-/// @brief Noise-free state at a sample time (for tests and diagnostics).
-struct TruthSample {
-  Eigen::Quaterniond q_WI = Eigen::Quaterniond::Identity();
-  Eigen::Vector3d p_WI = Eigen::Vector3d::Zero();
+/// @brief Noise-free state of a study run at a sample time, with the controller's reference
+/// and command (for tests and diagnostics; sim::TruthSample is the simulator's, unrelated).
+struct RunTruthSample {
+  Pose T_WI;  ///< true attitude and position
   Eigen::Vector3d v_WI = Eigen::Vector3d::Zero();
   Eigen::Vector3d p_ref_W = Eigen::Vector3d::Zero();  ///< reference position at t_k
   Eigen::Vector3d a_cmd_W = Eigen::Vector3d::Zero();  ///< acceleration the MPC asked for
@@ -42,7 +43,7 @@ struct RunStats {
 /// @brief Result of simulate_run.
 struct SimulatedRun {
   MassIdRun run;                   ///< what goes to the CSV and the manifest
-  std::vector<TruthSample> truth;  ///< one per sample
+  std::vector<RunTruthSample> truth;  ///< one per sample
   RunStats stats;
 };
 
