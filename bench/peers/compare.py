@@ -224,7 +224,17 @@ def main() -> int:
     ap.add_argument("--no-dynamics", action="store_true", help="skip the extra ours-dynamics rows")
     ap.add_argument("--doc", type=pathlib.Path, default=None, help="markdown file to put the table in")
     ap.add_argument("--ov-args", default="", help="extra ov_driver arguments (e.g. '--set k=v')")
+    ap.add_argument("--render", default=None, metavar="W1,W2",
+                    help="only write the table from the results.json of these work folders "
+                         "(e.g. two halves of the sequence list run on two cores)")
     args = ap.parse_args()
+    if args.render:
+        rows, meta = [], []
+        for w in args.render.split(","):
+            data = json.loads((pathlib.Path(w) / "results.json").read_text())
+            meta.append(data.pop("_meta"))
+            rows.extend(data.values())
+        return render(args, rows, meta)
     args.work.mkdir(parents=True, exist_ok=True)
     mono = mono_preset(args)
     seqs = [s for s in args.sequences.split(",") if s]
@@ -274,10 +284,8 @@ def main() -> int:
                 def agg(rs):
                     if not rs or any(len(r["ms"]) == 0 for r in rs):
                         return None
-                    ov_sum = {}
-                    sj = r0 = rs[0]["dir"] / "summary.json"
-                    if sj.exists():
-                        ov_sum = json.loads(sj.read_text())
+                    sj = rs[0]["dir"] / "summary.json"
+                    ov_sum = json.loads(sj.read_text()) if sj.exists() else {}
                     return {"median_ms": float(np.median([np.median(r["ms"]) for r in rs])),
                             "p95_ms": float(np.median([np.percentile(r["ms"], 95) for r in rs])),
                             "peak_rss_mb": max(r["peak_rss_kb"] for r in rs) / 1024.0,
@@ -294,9 +302,19 @@ def main() -> int:
                        "eval_ov": {k: x for k, x in ev.get("ov", {}).items() if not k.startswith("_")}}
                 rows.append(row)
                 raw[key] = row
+                raw["_meta"] = {"core": args.core, "repeats": args.repeats, "max_load": max_load,
+                                "minutes": (time.time() - t_start) / 60, "ended": time.strftime("%Y-%m-%d %H:%M")}
                 (args.work / "results.json").write_text(json.dumps(raw, indent=1, default=float))
+                raw.pop("_meta")
+    return render(args, rows, [{"core": args.core, "repeats": args.repeats, "max_load": max_load,
+                                "minutes": (time.time() - t_start) / 60, "ended": time.strftime("%Y-%m-%d %H:%M")}])
 
-    # ------------------------------------------------------------------ table
+
+def render(args, rows, meta) -> int:
+    max_load = max(m["max_load"] for m in meta)
+    cores = ",".join(sorted({str(m["core"]) for m in meta}))
+    repeats = min(m["repeats"] for m in meta)
+
     lines = []
     cpu = "unknown"
     for ln in pathlib.Path("/proc/cpuinfo").read_text().splitlines():
@@ -304,10 +322,10 @@ def main() -> int:
             cpu = ln.split(":", 1)[1].strip()
             break
     lines.append(f"Machine: {cpu}, {os.cpu_count()} cores, Linux {platform.release()}; both estimators "
-                 f"pinned to core {args.core} (`taskset`), {args.repeats} repeats, "
-                 f"largest 1-min load average before a run: {max_load:.2f}"
+                 f"pinned to the same core (`taskset -c {cores}`; one sequence list per core), "
+                 f"{repeats} repeat(s), largest 1-min load average before a run: {max_load:.2f}"
                  + (" (**provisional: above 1.2, other processes shared the machine**)" if max_load > 1.2 else "")
-                 + f"; {time.strftime('%Y-%m-%d %H:%M')}, {(time.time() - t_start) / 60:.0f} min.")
+                 + f"; ended {max(m['ended'] for m in meta)}, {max(m['minutes'] for m in meta):.0f} min.")
     lines.append("")
     lines.append("| sequence | mode | ATE posyaw [m] ours / OV | ATE se3 [m] ours / OV | RPE [m] (d) ours / OV "
                  "| median ms/frame ours / OV | p95 ms/frame ours / OV | peak RSS [MB] ours / OV "
@@ -333,6 +351,7 @@ def main() -> int:
             f"| {pair(o and o['wall_s'], v and v['wall_s'], 1)} "
             f"| {ratio} | {feats} |")
     table = "\n".join(lines) + "\n"
+    args.work.mkdir(parents=True, exist_ok=True)
     (args.work / "table.md").write_text(table)
     print(table)
     if args.doc:

@@ -164,15 +164,12 @@ std::string vec(const std::vector<double> &v) {
   return o.str();
 }
 
-// Estimator settings. Defaults = OpenVINS's own config/euroc_mav/estimator_config.yaml, except
-// the budget keys set from the command line (same as ours) and the documented changes below.
-std::vector<std::pair<std::string, std::string>> estimator_defaults() {
+// Estimator settings: OpenVINS's own config/euroc_mav/estimator_config.yaml (read from the
+// unpacked tarball, --base-config) with these keys replaced or added: the budget (same as ours,
+// config/sim), one thread, and the documented changes below.
+std::vector<std::pair<std::string, std::string>> estimator_changes() {
   return {
       {"verbosity", "\"WARNING\""},
-      {"use_fej", "true"},
-      {"integration", "\"rk4\""},
-      {"use_stereo", "true"},
-      {"max_cameras", "2"},
       // Calibration is exact in our simulated folders and VID-MSCKF does not estimate it
       // online either; estimating it would only add states (cost) and noise.
       {"calib_cam_extrinsics", "false"},
@@ -181,14 +178,7 @@ std::vector<std::pair<std::string, std::string>> estimator_defaults() {
       {"calib_imu_intrinsics", "false"},
       {"calib_imu_g_sensitivity", "false"},
       {"max_clones", "11"},
-      {"max_slam", "50"},
-      {"max_slam_in_update", "25"},
-      {"max_msckf_in_update", "40"},
-      {"dt_slam_delay", "1"},
-      {"gravity_mag", "9.81"},
-      {"feat_rep_msckf", "\"GLOBAL_3D\""},
-      {"feat_rep_slam", "\"ANCHORED_MSCKF_INVERSE_DEPTH\""},
-      {"feat_rep_aruco", "\"ANCHORED_MSCKF_INVERSE_DEPTH\""},
+      {"max_msckf_in_update", "60"},
       // Initialization from the still start (sequences hover for start_delay_s = 1 s): with
       // zero-velocity updates on, OpenVINS's static initializer does not wait for a jerk and
       // initializes as soon as the IMU window is still (accelerometer spread below
@@ -196,51 +186,57 @@ std::vector<std::pair<std::string, std::string>> estimator_defaults() {
       // until the vehicle first moves (zupt_only_at_beginning), disparity-based.
       {"try_zupt", "true"},
       {"zupt_chi2_multipler", "0"},
-      {"zupt_max_velocity", "0.1"},
-      {"zupt_noise_multiplier", "10"},
       {"zupt_max_disparity", "0.5"},
       {"zupt_only_at_beginning", "true"},
-      {"init_window_time", "1.0"},   // two 0.5 s halves: gravity from 0.5 s, as ours (init_window_s)
-      {"init_imu_thresh", "4.5"},    // ours: init_accel_std_max 4.5 m/s^2 (noisy VID accelerometer)
-      {"init_max_disparity", "10.0"},
-      {"init_max_features", "50"},
-      {"init_dyn_use", "false"},
-      {"record_timing_information", "false"},
-      {"save_total_state", "false"},
-      {"use_klt", "true"},
+      {"init_window_time", "1.0"},  // two 0.5 s halves: gravity from 0.5 s, as ours (init_window_s)
+      {"init_imu_thresh", "4.5"},   // ours: init_accel_std_max 4.5 m/s^2 (noisy VID accelerometer)
       {"num_pts", "150"},
-      {"fast_threshold", "20"},
       {"grid_x", "8"},
       {"grid_y", "6"},
       {"min_px_dist", "12"},
-      {"knn_ratio", "0.70"},
-      {"track_frequency", "21.0"},  // read only by the ROS nodes; the driver feeds every frame
-      {"downsample_cameras", "false"},
-      {"num_opencv_threads", "0"},    // serial: one core for both estimators
+      {"fast_threshold", "20"},
+      {"num_opencv_threads", "0"},  // serial: one core for both estimators
       {"multi_threading_pubs", "false"},
       {"multi_threading_subs", "false"},
       {"histogram_method", "\"NONE\""},  // ours: equalization none (rendered images)
-      {"use_aruco", "false"},
-      {"up_msckf_sigma_px", "1"},
-      {"up_msckf_chi2_multipler", "1"},
-      {"up_slam_sigma_px", "1"},
-      {"up_slam_chi2_multipler", "1"},
-      {"up_aruco_sigma_px", "1"},
-      {"up_aruco_chi2_multipler", "1"},
-      // Triangulation limits (ov_core FeatureInitializerOptions; EuRoC defaults 40 / 10000):
-      // with a 5 cm stereo baseline and 2-6 m depths, depth/baseline is 40-120, so the EuRoC
-      // limits reject most stereo-initialized features. Set from the camera baseline below.
+      // Triangulation limits (ov_core FeatureInitializerOptions; defaults 40 / 10000, not in
+      // the EuRoC file): set from the camera baseline below.
       {"fi_max_baseline", "40"},
       {"fi_max_cond_number", "10000"},
-      {"use_mask", "false"},
       {"relative_config_imu", "\"kalibr_imu_chain.yaml\""},
       {"relative_config_imucam", "\"kalibr_imucam_chain.yaml\""},
   };
 }
 
+// The base file with keys replaced ("key: value  # comment" lines) or appended.
+std::string merge_config(const fs::path &base, const std::vector<std::pair<std::string, std::string>> &kv) {
+  std::ifstream f(base);
+  if (!f) die("cannot open OpenVINS base config " + base.string());
+  std::ostringstream out;
+  std::string line;
+  std::map<std::string, bool> used;
+  while (std::getline(f, line)) {
+    size_t c = line.find(':');
+    std::string key = c == std::string::npos ? "" : line.substr(0, c);
+    bool plain = !key.empty() && key.find_first_not_of("abcdefghijklmnopqrstuvwxyz_0123456789") == std::string::npos;
+    auto it = std::find_if(kv.begin(), kv.end(), [&](const auto &p) { return p.first == key; });
+    if (plain && it != kv.end()) {
+      out << key << ": " << it->second << "  # set by ov_driver\n";
+      used[key] = true;
+    } else {
+      out << line << "\n";
+    }
+  }
+  out << "\n# added by ov_driver\n";
+  for (const auto &p : kv)
+    if (!used.count(p.first)) out << p.first << ": " << p.second << "\n";
+  return out.str();
+}
+
 void usage() {
   std::cout << "ov_driver --dataset DIR --out DIR [--cams 1|2] [--num-pts N] [--clones N]\n"
                "          [--max-msckf N] [--max-slam N] [--set key=value]... [--verbosity LEVEL]\n"
+               "          [--base-config OPENVINS_ESTIMATOR_CONFIG.yaml]\n"
                "Runs OpenVINS (GPL-3) on a VID-MSCKF dataset folder; see bench/peers/README.md.\n";
 }
 
@@ -248,6 +244,7 @@ void usage() {
 
 int main(int argc, char **argv) {
   fs::path dataset, out;
+  fs::path base_config = OV_BASE_CONFIG;
   int cams = 2;
   std::map<std::string, std::string> overrides;
   std::string verbosity = "WARNING";
@@ -265,6 +262,7 @@ int main(int argc, char **argv) {
     else if (a == "--max-msckf") overrides["max_msckf_in_update"] = next();
     else if (a == "--max-slam") overrides["max_slam"] = next();
     else if (a == "--verbosity") verbosity = next();
+    else if (a == "--base-config") base_config = next();
     else if (a == "--set") {
       std::string kv = next();
       auto eq = kv.find('=');
@@ -327,7 +325,7 @@ int main(int argc, char **argv) {
         << "  rostopic: /cam" << c << "/image_raw\n";
     }
   }
-  auto est = estimator_defaults();
+  auto est = estimator_changes();
   auto set = [&](const std::string &k, const std::string &v) {
     for (auto &kv : est)
       if (kv.first == k) {
@@ -354,8 +352,7 @@ int main(int argc, char **argv) {
   const fs::path est_yaml = out / "ov_config" / "estimator_config.yaml";
   {
     std::ofstream f(est_yaml);
-    f << "%YAML:1.0\n\n";
-    for (auto &kv : est) f << kv.first << ": " << kv.second << "\n";
+    f << merge_config(base_config, est);
   }
 
   // ---------------------------------------------------------------- OpenVINS
@@ -424,7 +421,10 @@ int main(int argc, char **argv) {
       if (past) break;
     }
     sys->feed_measurement_camera(msg);
-    bool init = sys->initialized();
+    // Initialized = its static initializer has set the state. (VioManager::initialized() stays
+    // false while the start-up zero-velocity updates hold the state, before the first MSCKF
+    // update; those frames have a valid, updated state too.)
+    bool init = sys->get_state()->_timestamp > 0;
     size_t n_msckf = 0, n_slam = 0, n_clones = 0;
     Eigen::Vector3d p;
     Eigen::Quaterniond q;
