@@ -42,6 +42,7 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "eval"))
+from vid_eval.alignment import AlignmentError  # noqa: E402
 from vid_eval.ate import ate_of_paired  # noqa: E402
 from vid_eval.loaders import load_trajectory  # noqa: E402
 from vid_eval.pairing import PairingOptions, pair_trajectories  # noqa: E402
@@ -138,7 +139,11 @@ def metrics(est: Trajectory, gt: Trajectory, rpe_d: float) -> dict:
     pe, pg = pair_trajectories(est, gt, PairingOptions(max_diff_ns=2_000_000, min_pairs=3))
     out = {"pairs": int(len(pe.t_ns))}
     for mode in ("posyaw", "se3"):
-        r = ate_of_paired(pe, pg, mode)
+        try:
+            r = ate_of_paired(pe, pg, mode)
+        except AlignmentError:  # hover in place (fast_yaw): positions nearly a point, no se3 fit
+            out[f"ate_{mode}_m"] = out[f"ate_{mode}_rot_deg"] = float("nan")
+            continue
         out[f"ate_{mode}_m"] = r.pos_rmse
         out[f"ate_{mode}_rot_deg"] = r.rot_rmse_deg
         if mode == "posyaw" and rpe_d is None:
