@@ -353,7 +353,7 @@ def render(args, rows, meta) -> int:
             f"| {r['sequence']} | {mode} "
             f"| {pair(eo.get('ate_posyaw_m'), ev_.get('ate_posyaw_m'))} "
             f"| {pair(eo.get('ate_se3_m'), ev_.get('ate_se3_m'))} "
-            f"| {pair(eo.get('rpe_trans_rmse_m'), ev_.get('rpe_trans_rmse_m'))} ({eo.get('rpe_d_m')} m) "
+            f"| {pair(eo.get('rpe_trans_rmse_m'), ev_.get('rpe_trans_rmse_m'))} ({eo.get('rpe_d_m') or '-'} m) "
             f"| {pair(o and o['median_ms'], v and v['median_ms'], 2)} "
             f"| {pair(o and o['p95_ms'], v and v['p95_ms'], 2)} "
             f"| {pair(o and o['peak_rss_mb'], v and v['peak_rss_mb'], 0)} "
