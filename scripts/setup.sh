@@ -1,8 +1,19 @@
 #!/usr/bin/env bash
 # Installs every dependency of VID-MSCKF on Debian 12 (run as root) and creates .venv.
 # Idempotent: a second run checks, finds everything present, and changes nothing.
+#   --peers   also install what the peer-estimator benchmarks need (bench/peers/: OpenVINS
+#             needs Boost system/filesystem/thread/date_time). Not part of the default setup.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+
+PEERS=0
+for arg in "$@"; do
+  case "$arg" in
+    --peers) PEERS=1 ;;
+    -h|--help) sed -n '2,5p' "${BASH_SOURCE[0]}"; exit 0 ;;
+    *) echo "[setup] unknown option: $arg (known: --peers)" >&2; exit 2 ;;
+  esac
+done
 
 APT_PKGS=(
   build-essential cmake ninja-build pkg-config git
@@ -11,6 +22,11 @@ APT_PKGS=(
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   python3 python3-venv python3-dev
 )
+# bench/peers/openvins (OpenVINS without ROS): Boost; only with --peers.
+PEER_APT_PKGS=(
+  libboost-system-dev libboost-filesystem-dev libboost-thread-dev libboost-date-time-dev
+)
+if ((PEERS)); then APT_PKGS+=("${PEER_APT_PKGS[@]}"); fi
 
 missing=()
 for p in "${APT_PKGS[@]}"; do
