@@ -14,8 +14,9 @@ vid_massid (generate, run, report, elm-study) with fixed seeds into OUT.
 (numbers compared with |a-b| <= 1e-12 * max(1, |a|)), or the first difference. Measured
 timings are not outputs of the computation and are left out: JSON keys and CSV columns whose
 names say time was measured (`*_ms`, `cpu*`, `wall*`, ...), and timing.csv's values. The
-outputs name their inputs' paths: `run` works in OUT/../work, records that path in
-OUT/steps.json, and `compare` reads each side's text with its work path replaced by <WORK>.
+outputs name their inputs' paths: `run` works in OUT/../work, records that path and the
+repository's in OUT/steps.json, and `compare` reads each side's text with them replaced by
+<WORK> and <REPO> (so a checkout elsewhere compares equal).
 Exit 1 on any difference.
 """
 from __future__ import annotations
@@ -101,7 +102,7 @@ def run(build: pathlib.Path, out: pathlib.Path) -> None:
     # The LCM event log carries wall-clock receive times: keep only what vid_live made of it.
     (work / "replay.log").unlink()
     shutil.copytree(work, out)
-    (out / "steps.json").write_text(json.dumps({"work": str(work), "steps": steps}, indent=1))
+    (out / "steps.json").write_text(json.dumps({"work": str(work), "repo": str(REPO), "steps": steps}, indent=1))
     print(f"[parity] {len(steps)} steps -> {out}")
 
 
@@ -153,8 +154,10 @@ def _md_text(text: str, name: str) -> str:
     return "\n".join(out)
 
 
-def _compare_file(a: pathlib.Path, b: pathlib.Path, wa: bytes, wb: bytes) -> tuple[bool, str]:
-    ba, bb = a.read_bytes().replace(wa, b"<WORK>"), b.read_bytes().replace(wb, b"<WORK>")
+def _compare_file(a: pathlib.Path, b: pathlib.Path, paths_a: tuple, paths_b: tuple) -> tuple[bool, str]:
+    """paths_*: (work folder, repository) of each side, replaced by <WORK> / <REPO> in the text."""
+    ba = a.read_bytes().replace(paths_a[0], b"<WORK>").replace(paths_a[1], b"<REPO>")
+    bb = b.read_bytes().replace(paths_b[0], b"<WORK>").replace(paths_b[1], b"<REPO>")
     if ba == bb:
         return True, "identical"
     if a.suffix == ".json":
@@ -188,7 +191,9 @@ def compare(a: pathlib.Path, b: pathlib.Path) -> int:
     fb = {p.relative_to(b) for p in b.rglob("*") if p.is_file()}
     bad = 0
     counts: dict[str, int] = {}
-    wa, wb = (json.loads((d / "steps.json").read_text())["work"].encode() for d in (a, b))
+    sa, sb = (json.loads((d / "steps.json").read_text()) for d in (a, b))
+    wa, wb = sa["work"].encode(), sb["work"].encode()
+    ra, rb = sa.get("repo", str(REPO)).encode(), sb.get("repo", str(REPO)).encode()
     for rel in sorted(fa | fb):
         if rel not in fa or rel not in fb:
             print(f"MISSING in {'after' if rel in fa else 'before'}: {rel}")
@@ -196,7 +201,7 @@ def compare(a: pathlib.Path, b: pathlib.Path) -> int:
             continue
         if rel.name == "steps.json":
             continue
-        ok, how = _compare_file(a / rel, b / rel, wa, wb)
+        ok, how = _compare_file(a / rel, b / rel, (wa, ra), (wb, rb))
         counts[how if ok else "different"] = counts.get(how if ok else "different", 0) + 1
         if not ok:
             print(f"DIFFERENT {rel}: {how}")

@@ -4,8 +4,7 @@
 // This program links OpenVINS, which is GPL-3; the program as a whole is therefore distributed
 // under the GNU General Public License v3 (or later). It is a benchmark tool only: it is not part
 // of the VID-MSCKF build, libraries or binaries (see bench/peers/README.md).
-//
-// What it does (bench/peers/README.md has the details):
+// What it does (details: bench/peers/README.md):
 //   * reads DATASET/mav0/{imu0,cam0,cam1} (docs/formats.md section 1: CSV + PNG + sensor.yaml),
 //   * writes OpenVINS's estimator_config.yaml / kalibr_imu_chain.yaml / kalibr_imucam_chain.yaml
 //     from our calibration into OUT/ov_config/ (--set key=value overrides estimator keys),
