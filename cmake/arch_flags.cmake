@@ -11,7 +11,8 @@
 #   VID_ARCH=x86-64-v3 force it;  VID_ARCH=baseline  never add -march
 #
 # The flag is added to every target of the project so that all code sharing Eigen types agrees
-# on their alignment. Third-party libraries (Ceres) are only called through double* interfaces.
+# on their alignment; the installed libraries carry it as a usage requirement, so a project that
+# links them compiles its Eigen code the same way (mixed alignment crashes at run time). Third-party libraries (Ceres) are only called through double* interfaces.
 set(VID_ARCH "auto" CACHE STRING "Instruction-set level: auto | x86-64-v3 | baseline")
 set_property(CACHE VID_ARCH PROPERTY STRINGS auto x86-64-v3 baseline)
 
@@ -36,8 +37,10 @@ else()
   message(FATAL_ERROR "VID_ARCH must be auto, x86-64-v3 or baseline (got '${VID_ARCH}')")
 endif()
 
+set(VID_ARCH_FLAGS "")
 if(VID_ARCH_RESOLVED STREQUAL "x86-64-v3")
-  add_compile_options(-march=x86-64-v3)
+  set(VID_ARCH_FLAGS -march=x86-64-v3)
+  add_compile_options(${VID_ARCH_FLAGS})
   # GCC 12 flags Eigen's 4-wide loads of 3-vectors (guarded by a size check it does not
   # follow) as out of bounds: a known false positive of -Warray-bounds with AVX.
   if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -15,6 +16,16 @@
 #include "io/errors.h"
 
 namespace vid::io::test {
+
+/// @brief The message of the io::ConfigError that @p f throws ("" when it throws none).
+inline std::string config_error(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
 
 /// @brief A fresh folder under the temp dir, removed at scope exit.
 class ScratchDir {

@@ -16,15 +16,6 @@
 namespace vid::io::test {
 namespace {
 
-std::string config_error(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(StrictYaml, MessagesNameFileLineAndKeyPath) {
   const YamlMap y = YamlMap::load_string("a:\n  b: 1\n  c: x\nd: [1, 2]\ne: 3\n", "cfg.yaml");
   const YamlMap a = y.get_map("a");

@@ -7,18 +7,10 @@
 #include <functional>
 
 #include "io/strict_yaml.h"
+#include "io_test_util.h"
 
 namespace vid::io::test {
 namespace {
-
-std::string config_error(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(StrictYaml, U64VectorsAndStrings) {
   const YamlMap y = YamlMap::load_string(
