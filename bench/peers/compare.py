@@ -223,7 +223,7 @@ def main() -> int:
     ap.add_argument("--setups", default="stereo,mono", help="stereo,mono")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--core", type=int, default=1, help="CPU both estimators are pinned to")
-    ap.add_argument("--bin", type=pathlib.Path, default=pathlib.Path("/work/main/build/bin"),
+    ap.add_argument("--bin", type=pathlib.Path, default=ROOT / "build" / "bin",
                     help="folder with vid_sim and vid_run (the project's build)")
     ap.add_argument("--ov", type=pathlib.Path, default=ROOT / "build-peers" / "bin" / "ov_driver")
     ap.add_argument("--seq-dir", type=pathlib.Path, default=ROOT / "build-peers" / "seq")

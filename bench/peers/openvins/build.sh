@@ -5,7 +5,7 @@
 #
 #   bench/peers/openvins/build.sh [BUILD_DIR]     (default: <repo>/build-peers)
 #
-# Env: OV_TARBALL (default /work/shared/peers/open_vins-6948812.tar.gz), JOBS (default 2),
+# Env: OV_TARBALL (default <repo>/../shared/peers/open_vins-6948812.tar.gz), JOBS (default 2),
 #      NICE (default 19: other builds on the machine go first), OV_ARCH (default x86-64-v3, the
 #      level the project itself builds at, cmake/arch_flags.cmake; "baseline" = no -march).
 # Needs: bash scripts/setup.sh --peers (Boost), plus the project's default deps (Eigen, OpenCV
@@ -13,7 +13,7 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../../.." && pwd)"
 BUILD="${1:-$ROOT/build-peers}"
-TARBALL="${OV_TARBALL:-/work/shared/peers/open_vins-6948812.tar.gz}"
+TARBALL="${OV_TARBALL:-$ROOT/../shared/peers/open_vins-6948812.tar.gz}"
 JOBS="${JOBS:-2}"
 NICE="${NICE:-19}"
 ARCH="${OV_ARCH:-x86-64-v3}"
