@@ -112,8 +112,7 @@ void add_run_report_commands(CLI::App& cli, int* exit_code) {
   run->add_option("--data", ro->data, "study dataset folder (vid_massid generate)")->required()->check(CLI::ExistingDirectory);
   run->add_option("--out", ro->out, "output folder")->required();
   run->add_option("--methods", ro->methods,
-                  "comma-separated methods: ekf,ukf,msckf,swls" +
-                      std::string(massid::data_driven_available() ? ",elm,relm,oselm" : ""))
+                  "comma-separated methods: ekf,ukf,msckf,swls,elm,relm,oselm")
       ->capture_default_str();
   run->add_option("--runs-per-case", ro->runs_per_case, "evaluated runs per trajectory x profile")->capture_default_str();
   run->add_option("--threads", ro->threads, "worker threads")->capture_default_str();

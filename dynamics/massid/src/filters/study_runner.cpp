@@ -44,11 +44,9 @@ std::vector<std::unique_ptr<MassEstimator>> make_estimators(
 
 }  // namespace
 
-bool data_driven_available() { return true; }
-
 std::vector<std::string> available_methods() {
   std::vector<std::string> m = model_based_methods();
-  if (data_driven_available()) m.insert(m.end(), {"elm", "relm", "oselm"});
+  m.insert(m.end(), {"elm", "relm", "oselm"});
   return m;
 }
 

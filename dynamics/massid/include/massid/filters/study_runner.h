@@ -42,9 +42,7 @@ struct RunResult {
   std::vector<MethodRunResult> methods;
 };
 
-/// @brief True when the ELM family (train_data_driven, src/elm/) is linked in.
-bool data_driven_available();
-/// @brief Every method name `run` accepts in this build.
+/// @brief Every method name `run` accepts.
 std::vector<std::string> available_methods();
 
 /// @brief Pick runs_per_case runs of every trajectory x profile (seeded shuffle), in
