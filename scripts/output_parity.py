@@ -128,6 +128,16 @@ def _numbers_equal(a: str, b: str, tol: float) -> bool:
     return True
 
 
+def _max_diff(a: str, b: str) -> str:
+    """Largest |a-b| / max(1, |a|) over the numbers of two texts with the same number count."""
+    na, nb = NUMBER.findall(a), NUMBER.findall(b)
+    if len(na) != len(nb):
+        return f"{len(na)} vs {len(nb)} numbers"
+    worst = max((abs(float(x) - float(y)) / max(1.0, abs(float(x))) for x, y in zip(na, nb)
+                 if float(x) != float(y)), default=0.0)
+    return f"max relative difference {worst:.2g} over {len(na)} numbers"
+
+
 def _csv_text(text: str, name: str) -> str:
     lines = text.splitlines()
     if name == "timing.csv":
@@ -169,7 +179,7 @@ def _compare_file(a: pathlib.Path, b: pathlib.Path, paths_a: tuple, paths_b: tup
             return True, "equal to 1e-12 without measured times"
         for la, lb in zip(sa.splitlines(), sb.splitlines()):
             if la != lb and not _numbers_equal(la, lb, 1e-12):
-                return False, f"differs: {la.strip()} | {lb.strip()}"
+                return False, f"differs ({_max_diff(sa, sb)}): {la.strip()} | {lb.strip()}"
         return False, "differs in length"
     if a.suffix in (".csv", ".txt", ".md", ".yaml"):
         text = {".csv": _csv_text, ".md": _md_text}.get(a.suffix, lambda t, name: t)
@@ -181,7 +191,7 @@ def _compare_file(a: pathlib.Path, b: pathlib.Path, paths_a: tuple, paths_b: tup
             return False, f"{len(la)} vs {len(lb)} lines"
         for i, (x, y) in enumerate(zip(la, lb)):
             if x != y and not _numbers_equal(x, y, 1e-12):
-                return False, f"line {i + 1}: {x[:120]} | {y[:120]}"
+                return False, f"{_max_diff(ta, tb)}; first at line {i + 1}: {x[:80]} | {y[:80]}"
         return True, "equal to 1e-12"
     return False, "binary files differ"
 

@@ -38,12 +38,12 @@ std::optional<Eigen::Matrix3d> GyroIntegrator::rotation(TimeNs t0, TimeNs t1,
                              [](TimeNs v, const ImuSample& s) { return v < s.t_ns; });
   for (; it != buf_.end() && it->t_ns < t1; ++it) {
     const double dt = ns_to_s(it->t_ns - ta);
-    R = R * so3::exp_aa(0.5 * (wa + it->gyro_I) * dt);
+    R = R * so3::exp(0.5 * (wa + it->gyro_I) * dt);
     ta = it->t_ns;
     wa = it->gyro_I;
   }
   const Eigen::Vector3d wb = rate_at(t1);
-  R = R * so3::exp_aa(0.5 * (wa + wb) * ns_to_s(t1 - ta));
+  R = R * so3::exp(0.5 * (wa + wb) * ns_to_s(t1 - ta));
   return R;
 }
 

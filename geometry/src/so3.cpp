@@ -133,25 +133,4 @@ Eigen::Matrix3d orthonormalized(const Eigen::Matrix3d& R) {
   return Eigen::Quaterniond(R).normalized().toRotationMatrix();
 }
 
-Eigen::Matrix3d exp_aa(const Eigen::Vector3d& phi) {
-  const double angle = phi.norm();
-  if (angle < 1e-12) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(angle, phi / angle).toRotationMatrix();
-}
-
-Eigen::Quaterniond quat_exp_aa(const Eigen::Vector3d& phi) {
-  const double angle = phi.norm();
-  if (angle < 1e-12) {
-    // First-order expansion; exact to machine precision at this size.
-    const Eigen::Quaterniond q(1.0, 0.5 * phi.x(), 0.5 * phi.y(), 0.5 * phi.z());
-    return q.normalized();
-  }
-  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, phi / angle));
-}
-
-Eigen::Vector3d log_aa(const Eigen::Matrix3d& R) {
-  const Eigen::AngleAxisd aa(R);
-  return aa.angle() * aa.axis();
-}
-
 }  // namespace vid::so3

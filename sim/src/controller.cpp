@@ -41,8 +41,8 @@ void GeometricController::flat_attitude(const Trajectory& ref, double t, const E
   constexpr double h = 2e-3;
   const Eigen::Matrix3d Rm = rot_at(t - h), R0 = rot_at(t), Rp = rot_at(t + h);
   *R_WI = R0;
-  const Eigen::Vector3d w_plus = so3::log_aa(R0.transpose() * Rp) / h;
-  const Eigen::Vector3d w_minus = so3::log_aa(Rm.transpose() * R0) / h;
+  const Eigen::Vector3d w_plus = so3::log(R0.transpose() * Rp) / h;
+  const Eigen::Vector3d w_minus = so3::log(Rm.transpose() * R0) / h;
   *w_I = 0.5 * (w_plus + w_minus);
   *dw_I = (w_plus - w_minus) / h;
 }

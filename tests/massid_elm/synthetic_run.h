@@ -57,7 +57,7 @@ inline MassIdRun make_synthetic_run(const SyntheticSpec& s) {
     x.v_WI = v + s.sigma_v * Eigen::Vector3d(n(rng), n(rng), n(rng));
     run.samples.push_back(x);
     // Zero-order-hold step to the next sample.
-    const Eigen::Quaterniond half = so3::quat_exp_aa(0.5 * dt * x.w_I);
+    const Eigen::Quaterniond half = so3::quat_exp(0.5 * dt * x.w_I);
     const Eigen::Vector3d a = x.thrust_cmd / x.mass_true * ((x.q_WI * half) * Eigen::Vector3d::UnitZ()) - g_e;
     p += dt * v + 0.5 * dt * dt * a;
     v += dt * a;

@@ -3,11 +3,6 @@
 /// @brief SO(3) and unit-quaternion helpers (Hamilton, right perturbation, docs/design.md §3):
 /// R = R_hat * Exp(dtheta), q = q_hat ⊗ exp(dtheta / 2). All functions are accurate for
 /// angles near 0 (series expansions) and near pi (quaternion-based logarithm).
-///
-/// The `*_aa` functions are the same maps evaluated through Eigen::AngleAxisd. They differ from
-/// exp/quat_exp/log only in the last bits; the simulator, the mass-identification generator and
-/// the KLT gyro prior were written with them and their recorded outputs depend on that rounding,
-/// so they stay for those callers. New code uses exp/quat_exp/log.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -57,16 +52,5 @@ Eigen::Quaterniond normalized(const Eigen::Quaterniond& q);
 
 /// @brief Project a nearly-orthonormal matrix onto SO(3) (via quaternion).
 Eigen::Matrix3d orthonormalized(const Eigen::Matrix3d& R);
-
-/// @brief Exp(phi) as Eigen::AngleAxisd(|phi|, phi/|phi|).toRotationMatrix(); identity for
-/// |phi| < 1e-12.
-Eigen::Matrix3d exp_aa(const Eigen::Vector3d& phi);
-
-/// @brief Unit quaternion of phi as Eigen::Quaterniond(Eigen::AngleAxisd(...)); below
-/// |phi| = 1e-12 the first-order quaternion [1, phi/2], normalized.
-Eigen::Quaterniond quat_exp_aa(const Eigen::Vector3d& phi);
-
-/// @brief Log(R) as angle * axis of Eigen::AngleAxisd(R), angle in [0, pi].
-Eigen::Vector3d log_aa(const Eigen::Matrix3d& R);
 
 }  // namespace vid::so3

@@ -41,7 +41,7 @@ bool FeatureExtractor::push(const MassIdSample& s, Eigen::VectorXd* x) {
     // them): thrust T_{k-1} along z_I at the interval's midpoint attitude
     // R_{k-1} Exp(w_{k-1} dt / 2).
     const double dt = s.t - prev.t;
-    const Eigen::Quaterniond dq = so3::quat_exp_aa(0.5 * dt * last_.w_I);
+    const Eigen::Quaterniond dq = so3::quat_exp(0.5 * dt * last_.w_I);
     const Eigen::Vector3d z_mid = (last_.q_WI * dq) * Eigen::Vector3d::UnitZ();
     e.thrust_integral_W = prev.thrust_integral_W + dt * last_.thrust_cmd * z_mid;
   }

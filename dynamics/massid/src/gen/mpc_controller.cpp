@@ -148,7 +148,7 @@ ControlOutput MpcController::compute(double t, const Eigen::Quaterniond& q_WI,
   Eigen::Matrix3d R_WD;
   R_WD << y_des.cross(z_des), y_des, z_des;
   const Eigen::Matrix3d R_WI = q_WI.normalized().toRotationMatrix();
-  const Eigen::Vector3d e_I = so3::log_aa(R_WI.transpose() * R_WD);
+  const Eigen::Vector3d e_I = so3::log(R_WI.transpose() * R_WD);
 
   // Feed-forward: rate of the thrust direction from the reference jerk.
   const Eigen::Vector3d z_dot_W =

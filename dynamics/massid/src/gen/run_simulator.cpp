@@ -36,7 +36,7 @@ struct TranslationalModel {
   const MassProfile* mass;
 
   Eigen::Vector3d accel(double s) const {
-    const Eigen::Matrix3d R = R_WI_k * so3::quat_exp_aa(w_I * (s - t_k)).toRotationMatrix();
+    const Eigen::Matrix3d R = R_WI_k * so3::quat_exp(w_I * (s - t_k)).toRotationMatrix();
     // Steps are on the sample grid and right-continuous: sample the mass inside the interval
     // so a step at t_{k+1} does not leak into [t_k, t_{k+1}).
     const double m = mass->mass_kg(std::min(s, t_k_end - 1e-9 * (t_k_end - t_k)));
@@ -119,7 +119,7 @@ SimulatedRun simulate_run(const GeneratorSettings& s, const std::string& traject
     MassIdSample sample;
     sample.t = t;
     // q noise is a local (right) perturbation: q_meas = q ⊗ exp(n_q / 2).
-    sample.q_WI = (q_WI * so3::quat_exp_aa(gauss3(s.sigma_q))).normalized();
+    sample.q_WI = (q_WI * so3::quat_exp(gauss3(s.sigma_q))).normalized();
     sample.p_WI = p_WI + gauss3(s.sigma_p);
     sample.v_WI = v_WI + gauss3(s.sigma_v);
     const ControlOutput u = controller.compute(t, sample.q_WI, sample.p_WI, sample.v_WI, *reference);
@@ -139,7 +139,7 @@ SimulatedRun simulate_run(const GeneratorSettings& s, const std::string& traject
     TranslationalModel model{q_WI.toRotationMatrix(), u.w_I, u.thrust_N, t, t_next, g_W, &mass};
     const double h = (t_next - t) / s.integration_substeps;
     for (int i = 0; i < s.integration_substeps; ++i) model.rk4(t + i * h, h, &p_WI, &v_WI);
-    q_WI = (q_WI * so3::quat_exp_aa(u.w_I * (t_next - t))).normalized();
+    q_WI = (q_WI * so3::quat_exp(u.w_I * (t_next - t))).normalized();
   }
   out.stats.position_rmse_m = std::sqrt(sq_err / static_cast<double>(n));
   out.stats.saturated_fraction = static_cast<double>(saturated) / static_cast<double>(n);
