@@ -23,8 +23,8 @@ FilterState full_window(PropagationMode mode, int clones, ForceFrame frame = Est
   p.force_rate_random_walk = force_rate_random_walk;
   FilterState s(mode == PropagationMode::kDynamics, frame, force_rate_random_walk > 0.0);
   ImuState x;
-  x.q_WI = so3::quat_exp(Eigen::Vector3d(0.1, -0.2, 0.3));
-  s.initialize(0, x, initial_covariance(p, x.q_WI));
+  x.T_WI.q = so3::quat_exp(Eigen::Vector3d(0.1, -0.2, 0.3));
+  s.initialize(0, x, initial_covariance(p, x.T_WI.q));
   ImuInterval u;
   u.dt = 0.0025;
   u.gyro0 = u.gyro1 = Eigen::Vector3d(0.1, 0.2, -0.1);

@@ -98,8 +98,7 @@ vid::FilterState make_state(const Setup& s) {
   st.initialize(0, vid::ImuState{}, Eigen::MatrixXd::Identity(st.imu_dim(), st.imu_dim()));
   for (const ClonePose& c : s.clones) {
     st.set_time(c.t_ns);
-    st.imu().q_WI = Eigen::Quaterniond(c.R_WI);
-    st.imu().p_WI = c.p_WI;
+    st.imu().T_WI = {Eigen::Quaterniond(c.R_WI), c.p_WI};
     st.reset_imu_fej();
     st.augment_clone();
   }

@@ -138,10 +138,10 @@ void DatasetReader::Impl::open_streams() {
       static const char* const kBa[3] = {"b_a_RS_S_x [m s^-2]", "b_a_RS_S_y [m s^-2]", "b_a_RS_S_z [m s^-2]"};
       GroundTruthSample s;
       s.t_ns = t;
-      s.p_WI = vec3(c, 1, kP);
-      s.q_WI = Eigen::Quaterniond(c.get_double(4, "q_RS_w []"), c.get_double(5, "q_RS_x []"),
+      s.T_WI.p = vec3(c, 1, kP);
+      s.T_WI.q = Eigen::Quaterniond(c.get_double(4, "q_RS_w []"), c.get_double(5, "q_RS_x []"),
                                   c.get_double(6, "q_RS_y []"), c.get_double(7, "q_RS_z []"));
-      const double norm = s.q_WI.norm();
+      const double norm = s.T_WI.q.norm();
       if (norm < 0.99 || norm > 1.01) c.fail("quaternion q_RS is not unit length (norm " + std::to_string(norm) + ")");
       s.v_WI = vec3(c, 8, kV);
       s.b_g = vec3(c, 11, kBw);

@@ -184,11 +184,11 @@ void DatasetWriter::write(const MassSample& s) {
 void DatasetWriter::write(const GroundTruthSample& s) {
   CsvOut& f = impl_->file("state_groundtruth_estimate0", kGtHeader);
   f.begin(s.t_ns);
-  f.add(s.p_WI);
-  f.add(s.q_WI.w());
-  f.add(s.q_WI.x());
-  f.add(s.q_WI.y());
-  f.add(s.q_WI.z());
+  f.add(s.T_WI.p);
+  f.add(s.T_WI.q.w());
+  f.add(s.T_WI.q.x());
+  f.add(s.T_WI.q.y());
+  f.add(s.T_WI.q.z());
   f.add(s.v_WI);
   f.add(s.b_g);
   f.add(s.b_a);

@@ -23,9 +23,9 @@ DatasetSink::~DatasetSink() {
 
 void DatasetSink::on_groundtruth(const GroundTruthSample& s) {
   GroundTruthSample g = s;  // biases are body-frame: unchanged
-  g.p_WI = R_GS_ * s.p_WI;
+  g.T_WI.p = R_GS_ * s.T_WI.p;
   g.v_WI = R_GS_ * s.v_WI;
-  g.q_WI = Eigen::Quaterniond(R_GS_ * s.q_WI.toRotationMatrix()).normalized();
+  g.T_WI.q = Eigen::Quaterniond(R_GS_ * s.T_WI.R()).normalized();
   writer_.write(g);
 }
 

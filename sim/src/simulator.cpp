@@ -121,8 +121,7 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
     if (gt_s.due(t)) {
       GroundTruthSample gt;
       gt.t_ns = t;
-      gt.p_WI = x.p_WI;
-      gt.q_WI = x.q_WI;
+      gt.T_WI = {x.q_WI, x.p_WI};
       gt.v_WI = x.v_WI;
       gt.b_g = imu.gyro_bias();
       gt.b_a = imu.accel_bias();

@@ -67,15 +67,20 @@ RunOutputs::RunOutputs(const std::filesystem::path& out_dir, bool write_force)
   timing_.line(timing_csv_header());
 }
 
+std::string tum_line(const TimedPose& x) {
+  const Eigen::Quaterniond q = x.T.q.normalized();
+  // Seconds with 9 decimals from integer ns, so no precision is lost.
+  const TimeNs sec = x.t_ns / 1000000000;
+  const TimeNs frac = x.t_ns % 1000000000;
+  return fmt::format("{}.{:09d} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}", sec, frac, x.T.p.x(), x.T.p.y(),
+                     x.T.p.z(), q.x(), q.y(), q.z(), q.w());
+}
+
 void RunOutputs::write_estimate(const EstimateRow& r) {
-  const Eigen::Quaterniond q = r.q_WI.normalized();
-  // TUM: seconds with 9 decimals from integer ns, so no precision is lost.
-  const TimeNs sec = r.t_ns / 1000000000;
-  const TimeNs frac = r.t_ns % 1000000000;
-  tum_.line(fmt::format("{}.{:09d} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}", sec, frac, r.p_WI.x(),
-                        r.p_WI.y(), r.p_WI.z(), q.x(), q.y(), q.z(), q.w()));
-  std::string row = fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}", r.t_ns, r.p_WI.x(), r.p_WI.y(),
-                                r.p_WI.z(), q.w(), q.x(), q.y(), q.z());
+  const Eigen::Quaterniond q = r.T_WI.q.normalized();
+  tum_.line(tum_line({r.t_ns, r.T_WI}));
+  std::string row = fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}", r.t_ns, r.T_WI.p.x(), r.T_WI.p.y(),
+                                r.T_WI.p.z(), q.w(), q.x(), q.y(), q.z());
   auto append3 = [&row](const Eigen::Vector3d& v) { row += fmt::format(",{:.9g},{:.9g},{:.9g}", v.x(), v.y(), v.z()); };
   append3(r.v_WI);
   append3(r.b_g);

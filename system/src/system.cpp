@@ -38,8 +38,7 @@ double ms_since(Clock::time_point t0) {
 EstimateRow to_row(const EstimateOutput& e) {
   EstimateRow r;
   r.t_ns = e.t_ns;
-  r.q_WI = e.x.q_WI;
-  r.p_WI = e.x.p_WI;
+  r.T_WI = e.x.T_WI;
   r.v_WI = e.x.v_WI;
   r.b_g = e.x.b_g;
   r.b_a = e.x.b_a;
@@ -108,8 +107,8 @@ void System::push(const ThrustSample& s) { to_pipeline(s); }
 
 void System::push(const GroundTruthSample& s) {
   gt_p_.t_ns.push_back(s.t_ns);
-  gt_p_.v.push_back(s.p_WI);
-  gt_R_WI_.push_back(s.q_WI.toRotationMatrix());
+  gt_p_.v.push_back(s.T_WI.p);
+  gt_R_WI_.push_back(s.T_WI.q.toRotationMatrix());
   to_pipeline(s);
 }
 
@@ -240,7 +239,7 @@ void System::estimate_out(const EstimateOutput& e) {
   if (outputs_) outputs_->write_estimate(row);
   ++estimates_;
   est_p_.t_ns.push_back(row.t_ns);
-  est_p_.v.push_back(row.p_WI);
+  est_p_.v.push_back(row.T_WI.p);
   if (dynamics()) {
     est_f_W_.t_ns.push_back(row.t_ns);
     est_f_W_.v.push_back(e.F_ext_W);

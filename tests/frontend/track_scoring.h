@@ -61,8 +61,8 @@ class PoseTrack {
     const auto& a = *(it - 1);
     const double f = static_cast<double>(t - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns);
     T_WI->setIdentity();
-    T_WI->linear() = a.q_WI.slerp(f, b.q_WI).toRotationMatrix();
-    T_WI->translation() = (1 - f) * a.p_WI + f * b.p_WI;
+    T_WI->linear() = a.T_WI.q.slerp(f, b.T_WI.q).toRotationMatrix();
+    T_WI->translation() = (1 - f) * a.T_WI.p + f * b.T_WI.p;
     return true;
   }
 

@@ -106,8 +106,8 @@ inline WrittenSequence write_sequence(const std::filesystem::path& root, SeqKind
     }
     GroundTruthSample g;
     g.t_ns = t;
-    g.p_WI = r3();
-    g.q_WI = Eigen::Quaterniond(Eigen::Vector4d(mant(rng), mant(rng), mant(rng), mant(rng)).normalized());
+    g.T_WI.p = r3();
+    g.T_WI.q = Eigen::Quaterniond(Eigen::Vector4d(mant(rng), mant(rng), mant(rng), mant(rng)).normalized());
     g.v_WI = r3();
     g.b_g = r3();
     g.b_a = r3();

@@ -38,9 +38,9 @@ TEST(EurocSample, LoadsAllStreamsInOrder) {
   EXPECT_EQ(first_imu.t_ns, 1403636579758555392);
   EXPECT_EQ(first_imu.gyro_I.x(), -0.099134701513277898);
   EXPECT_EQ(first_imu.accel_I.z(), -2.4026292499999999);
-  EXPECT_EQ(first_gt.p_WI.x(), 4.688319);
-  EXPECT_EQ(first_gt.q_WI.w(), 0.534108);  // EuRoC order w, x, y, z
-  EXPECT_EQ(first_gt.q_WI.z(), -0.082152);
+  EXPECT_EQ(first_gt.T_WI.p.x(), 4.688319);
+  EXPECT_EQ(first_gt.T_WI.q.w(), 0.534108);  // EuRoC order w, x, y, z
+  EXPECT_EQ(first_gt.T_WI.q.z(), -0.082152);
   EXPECT_EQ(first_gt.b_a.z(), 0.075593);
 }
 

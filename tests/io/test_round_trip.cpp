@@ -36,8 +36,8 @@ void expect_same(const Measurement& a, const Measurement& b, std::size_t i) {
     EXPECT_EQ(x->mass_kg, std::get<MassSample>(b).mass_kg);
   } else if (auto* x = std::get_if<GroundTruthSample>(&a)) {
     const auto& y = std::get<GroundTruthSample>(b);
-    EXPECT_EQ(x->p_WI, y.p_WI);
-    EXPECT_EQ(x->q_WI.coeffs(), y.q_WI.coeffs());
+    EXPECT_EQ(x->T_WI.p, y.T_WI.p);
+    EXPECT_EQ(x->T_WI.q.coeffs(), y.T_WI.q.coeffs());
     EXPECT_EQ(x->v_WI, y.v_WI);
     EXPECT_EQ(x->b_g, y.b_g);
     EXPECT_EQ(x->b_a, y.b_a);

@@ -139,8 +139,8 @@ TEST(LiveMemq, PublishesTheSameEstimatesAsASystemFedDirectly) {
   ASSERT_EQ(got.states.size(), want.size());
   for (std::size_t i = 0; i < want.size(); ++i) {
     ASSERT_EQ(got.states[i].timestamp, want[i].t_ns);
-    for (int k = 0; k < 3; ++k) ASSERT_EQ(got.states[i].p[k], want[i].x.p_WI[k]);
-    ASSERT_EQ(got.states[i].q[0], want[i].x.q_WI.normalized().w());
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(got.states[i].p[k], want[i].x.T_WI.p[k]);
+    ASSERT_EQ(got.states[i].q[0], want[i].x.T_WI.q.normalized().w());
   }
   EXPECT_EQ(got.forces, 0);  // imu mode: no force estimate
   EXPECT_EQ(static_cast<int>(got.states.back().status), static_cast<int>(state_t::STATUS_TRACKING));

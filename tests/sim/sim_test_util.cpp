@@ -20,7 +20,7 @@ double tracking_rmse(const Simulator& sim, const Recording& rec, double t_from_s
   for (const GroundTruthSample& g : rec.gt) {
     const double t = static_cast<double>(g.t_ns - sim.scenario().start_time_ns) * 1e-9;
     if (t < t_from_s) continue;
-    sum += (g.p_WI - sim.trajectory().eval(t).p).squaredNorm();
+    sum += (g.T_WI.p - sim.trajectory().eval(t).p).squaredNorm();
     ++n;
   }
   return n > 0 ? std::sqrt(sum / n) : INFINITY;

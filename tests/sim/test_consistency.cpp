@@ -76,7 +76,7 @@ void check_preset(const std::string& name) {
     const GroundTruthSample& gt = rec.gt[i];
     const TruthSample& tr = rec.truth[i];
     ASSERT_EQ(tr.t_ns, gt.t_ns);
-    const Eigen::Matrix3d R = gt.q_WI.toRotationMatrix();
+    const Eigen::Matrix3d R = gt.T_WI.q.toRotationMatrix();
     const Eigen::Vector3d a_W = tr.forces.accel_W;
     // IMU at the same time: specific force and body rate.
     const auto it = imu_at.find(gt.t_ns);
@@ -112,7 +112,7 @@ void check_preset(const std::string& name) {
     if ((rec.gt[g0].t_ns - rec.gt[0].t_ns) % window != 0) continue;
     const TimeNs t_end = rec.gt[g0].t_ns + window;
     if (t_end > rec.gt.back().t_ns) break;
-    NavState x{rec.gt[g0].q_WI, rec.gt[g0].v_WI, rec.gt[g0].p_WI};
+    NavState x{rec.gt[g0].T_WI.q, rec.gt[g0].v_WI, rec.gt[g0].T_WI.p};
     std::size_t k = imu_at.at(rec.gt[g0].t_ns);
     std::size_t gi = g0;
     while (rec.imu[k].t_ns < t_end) {
@@ -123,7 +123,7 @@ void check_preset(const std::string& name) {
     }
     const auto end_gt = std::find_if(rec.gt.begin(), rec.gt.end(), [&](const auto& s) { return s.t_ns == t_end; });
     ASSERT_NE(end_gt, rec.gt.end());
-    worst_pos = std::max(worst_pos, (x.p - end_gt->p_WI).norm());
+    worst_pos = std::max(worst_pos, (x.p - end_gt->T_WI.p).norm());
     ++windows;
   }
   EXPECT_GE(windows, 1);

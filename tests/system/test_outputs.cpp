@@ -35,8 +35,8 @@ TEST(RunOutputs, RowsAreOnDiskBeforeClose) {
   RunOutputs out(dir, /*write_force=*/true);
   EstimateRow r;
   r.t_ns = 1700000000123456789LL;
-  r.p_WI = {1.0, 2.0, 3.0};
-  r.q_WI = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()));
+  r.T_WI.p = {1.0, 2.0, 3.0};
+  r.T_WI.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()));
   r.F_ext_I = {0.1, 0.2, 0.3};
   r.sigma.setConstant(0.01);
   out.write_estimate(r);

@@ -43,7 +43,7 @@ struct Fixture {
 TEST(System, FeatureInputGivesThePipelinesEstimatesAndObserversSeeEveryStep) {
   Fixture f;
   const ImuState x0 = test::initial_state(f.c);
-  const Eigen::MatrixXd P0 = initial_covariance(f.pc.params, x0.q_WI);
+  const Eigen::MatrixXd P0 = initial_covariance(f.pc.params, x0.T_WI.q);
 
   Pipeline pipe(f.pc);
   std::vector<EstimateOutput> want;
@@ -67,7 +67,7 @@ TEST(System, FeatureInputGivesThePipelinesEstimatesAndObserversSeeEveryStep) {
   ASSERT_EQ(got.size(), want.size());
   for (std::size_t i = 0; i < want.size(); ++i) {
     ASSERT_EQ(got[i].t_ns, want[i].t_ns);
-    ASSERT_EQ(got[i].x.p_WI, want[i].x.p_WI);
+    ASSERT_EQ(got[i].x.T_WI.p, want[i].x.T_WI.p);
     ASSERT_EQ(got[i].F_ext_W, want[i].F_ext_W);
   }
   EXPECT_EQ(statuses, std::vector<FilterStatus>{FilterStatus::kOk});
@@ -87,7 +87,7 @@ TEST(System, ScoresItselfAgainstPushedGroundTruthAndWritesTheOutputs) {
   p.out_dir = out;
   System sys(p);
   const ImuState x0 = test::initial_state(f.c);
-  sys.initialize(0, x0, initial_covariance(f.pc.params, x0.q_WI));
+  sys.initialize(0, x0, initial_covariance(f.pc.params, x0.T_WI.q));
   std::vector<EstimateOutput> est;
   sys.on_estimate([&](const EstimateOutput& e) { est.push_back(e); });
   // The truth as a dataset gives it, in time order with the sensors: poses and the force in
@@ -98,8 +98,7 @@ TEST(System, ScoresItselfAgainstPushedGroundTruthAndWritesTheOutputs) {
       const test::TruthState& s = f.d.truth[k];
       GroundTruthSample g;
       g.t_ns = s.t_ns;
-      g.p_WI = s.p;
-      g.q_WI = s.q;
+      g.T_WI = {s.q, s.p};
       sys.push(g);
       sys.push(ForceSample{s.t_ns, s.F_W * f.pc.vehicle.mass_kg});
     }
@@ -112,7 +111,7 @@ TEST(System, ScoresItselfAgainstPushedGroundTruthAndWritesTheOutputs) {
   Vec3Series e, g;
   for (const EstimateOutput& x : est) {
     e.t_ns.push_back(x.t_ns);
-    e.v.push_back(x.x.p_WI);
+    e.v.push_back(x.x.T_WI.p);
   }
   for (const test::TruthState& s : f.d.truth) {
     g.t_ns.push_back(s.t_ns);

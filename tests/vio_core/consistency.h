@@ -30,8 +30,8 @@ inline void perturb_by_covariance(ImuState& x, const Eigen::MatrixXd& P, unsigne
   Eigen::VectorXd z(P.rows());
   for (int i = 0; i < z.size(); ++i) z(i) = nd(rng);
   const Eigen::VectorXd dx = Eigen::MatrixXd(P.llt().matrixL()) * z;
-  x.q_WI = so3::boxplus(x.q_WI, dx.segment<3>(imu_idx::kTheta));
-  x.p_WI += dx.segment<3>(imu_idx::kP);
+  x.T_WI.q = so3::boxplus(x.T_WI.q, dx.segment<3>(imu_idx::kTheta));
+  x.T_WI.p += dx.segment<3>(imu_idx::kP);
   x.v_WI += dx.segment<3>(imu_idx::kV);
   x.b_g += dx.segment<3>(imu_idx::kBg);
   x.b_a += dx.segment<3>(imu_idx::kBa);

@@ -40,8 +40,8 @@ inline RunResult run_pipeline(const SynthConfig& c, const SynthData& d, const Pi
     const TruthState& s = *it->second;
     RunError r;
     r.t = ns_to_s(e.t_ns);
-    r.e_theta = so3::boxminus(e.x.q_WI, s.q);
-    r.e_p = e.x.p_WI - s.p;
+    r.e_theta = so3::boxminus(e.x.T_WI.q, s.q);
+    r.e_p = e.x.T_WI.p - s.p;
     r.e_F_I = e.F_ext_I - s.F_I;
     r.P_theta = e.cov_theta;
     r.P_p = e.cov_p;
@@ -53,7 +53,7 @@ inline RunResult run_pipeline(const SynthConfig& c, const SynthData& d, const Pi
   pipe.set_frame_callback([&](const FrameTimings& f) { out.frames.push_back(f); });
   if (init_from_truth) {
     ImuState x0 = initial_state(c);
-    const Eigen::MatrixXd P0 = initial_covariance(pc.params, x0.q_WI);
+    const Eigen::MatrixXd P0 = initial_covariance(pc.params, x0.T_WI.q);
     if (init_seed != 0) {
       x0.b_g = c.b_g;  // around the generator's true biases
       x0.b_a = c.b_a;

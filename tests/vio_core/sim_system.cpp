@@ -177,13 +177,13 @@ SimMetrics run_on_dataset(const std::filesystem::path& folder, const system::Sys
   for (const auto& [t, e] : est) {
     e_at.push_back(&e);
     e_p.t_ns.push_back(t);
-    e_p.v.push_back(e.x.p_WI);
+    e_p.v.push_back(e.x.T_WI.p);
     e_F_W.t_ns.push_back(t);
     e_F_W.v.push_back(e.F_ext_W);
   }
   for (const GroundTruthSample& g : gt) {
     g_p.t_ns.push_back(g.t_ns);
-    g_p.v.push_back(g.p_WI);
+    g_p.v.push_back(g.T_WI.p);
   }
   for (const ForceSample& f : forces) {
     g_F_W.t_ns.push_back(f.t_ns);
@@ -197,8 +197,8 @@ SimMetrics run_on_dataset(const std::filesystem::path& folder, const system::Sys
   constexpr TimeNs kTol = 3'000'000;
   for (const auto& [ie, ig] : system::associate_nearest(e_p.t_ns, g_p.t_ns, kTol)) {
     const EstimateOutput& e = *e_at[ie];
-    m.pos_err_max_m = std::max(m.pos_err_max_m, (e.x.p_WI - gt[ig].p_WI).norm());
-    m.theta_err_max_rad = std::max(m.theta_err_max_rad, so3::boxminus(e.x.q_WI, gt[ig].q_WI).norm());
+    m.pos_err_max_m = std::max(m.pos_err_max_m, (e.x.T_WI.p - gt[ig].T_WI.p).norm());
+    m.theta_err_max_rad = std::max(m.theta_err_max_rad, so3::boxminus(e.x.T_WI.q, gt[ig].T_WI.q).norm());
   }
   for (const auto& [ie, ig] : system::associate_nearest(e_F_W.t_ns, g_F_W.t_ns, kTol)) {
     if (g_F_W.t_ns[ig] - g_F_W.t_ns.front() >= 5'000'000'000LL)
@@ -229,9 +229,9 @@ NeesSeries nees_on_dataset(const std::filesystem::path& folder, PropagationMode 
   // NEES starts chi2-distributed instead of at zero.
   ImuState x0 = state_from_groundtruth(*gt0);
   if (mode == PropagationMode::kDynamics) {
-    set_force_from_body(x0, p.force_frame, gt0->q_WI.conjugate() * (f0->f_W_N / mass));
+    set_force_from_body(x0, p.force_frame, gt0->T_WI.q.conjugate() * (f0->f_W_N / mass));
   }
-  const Eigen::MatrixXd P0 = initial_covariance(p, x0.q_WI);
+  const Eigen::MatrixXd P0 = initial_covariance(p, x0.T_WI.q);
   perturb_by_covariance(x0, P0, init_seed);
 
   system::System sys(params);
@@ -258,13 +258,13 @@ NeesSeries nees_on_dataset(const std::filesystem::path& folder, PropagationMode 
     auto ft = force_W.find(g.t_ns);
     if (it == est.end() || ft == force_W.end()) continue;
     const EstimateOutput& e = it->second;
-    const Eigen::Vector3d e_th = so3::boxminus(e.x.q_WI, g.q_WI);
-    const Eigen::Vector3d e_p = e.x.p_WI - g.p_WI;
+    const Eigen::Vector3d e_th = so3::boxminus(e.x.T_WI.q, g.T_WI.q);
+    const Eigen::Vector3d e_p = e.x.T_WI.p - g.T_WI.p;
     out.t.push_back((g.t_ns - gt.front().t_ns) * 1e-9);
     out.theta.push_back(e_th.dot(e.cov_theta.ldlt().solve(e_th)));
     out.p.push_back(e_p.dot(e.cov_p.ldlt().solve(e_p)));
     if (mode == PropagationMode::kDynamics) {
-      const Eigen::Vector3d e_F = e.F_ext_I - g.q_WI.conjugate() * ft->second;
+      const Eigen::Vector3d e_F = e.F_ext_I - g.T_WI.q.conjugate() * ft->second;
       out.F.push_back(e_F.dot(e.cov_F_I.ldlt().solve(e_F)));
     } else {
       out.F.push_back(0.0);

@@ -198,8 +198,7 @@ PipelineConfig matching_config(const SynthConfig& c, const SynthData& d, Propaga
 ImuState initial_state(const SynthConfig& c) {
   const TruthState s = synth_truth(c, 0.0);
   ImuState x;
-  x.q_WI = s.q;
-  x.p_WI = s.p;
+  x.T_WI = {s.q, s.p};
   x.v_WI = s.v;
   x.F_ext = s.F_I;
   return x;

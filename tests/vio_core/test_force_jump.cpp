@@ -136,7 +136,7 @@ Detected feed_until_jump(FilterState& state, const Eigen::Vector3d& a_m, const E
 TEST(ApplyForceJump, ReEstimatesTheForceAndKeepsAttitudeAndBias) {
   FilterState state(true, ForceFrame::kWorld, true);
   ImuState x;
-  x.q_WI = so3::quat_exp(Eigen::Vector3d(0.05, -0.03, 0.8));
+  x.T_WI.q = so3::quat_exp(Eigen::Vector3d(0.05, -0.03, 0.8));
   x.b_a = Eigen::Vector3d(0.05, -0.02, 0.03);
   x.F_ext = Eigen::Vector3d(0.5, 0.0, 0.0);
   Eigen::MatrixXd P = Eigen::MatrixXd::Identity(state.imu_dim(), state.imu_dim()) * 1e-4;
@@ -149,7 +149,7 @@ TEST(ApplyForceJump, ReEstimatesTheForceAndKeepsAttitudeAndBias) {
   const Eigen::Vector3d F_true = x.F_ext + Eigen::Vector3d(0.0, 4.0, -2.0);  // W
   const Eigen::Vector3d T_m(0.0, 0.0, 9.81);
   const double noise_var = kSigma * kSigma;
-  const Detected d = feed_until_jump(state, T_m + x.q_WI.toRotationMatrix().transpose() * F_true + x.b_a, T_m);
+  const Detected d = feed_until_jump(state, T_m + x.T_WI.q.toRotationMatrix().transpose() * F_true + x.b_a, T_m);
   ASSERT_FALSE(d.window.empty());
   const std::vector<AccelInnovation>& window = d.window;
   const TimeNs t = d.t;
@@ -158,7 +158,7 @@ TEST(ApplyForceJump, ReEstimatesTheForceAndKeepsAttitudeAndBias) {
   const ImuState& after = state.imu();
   EXPECT_LT((after.F_ext - F_true).norm(), 0.05) << after.F_ext.transpose();
   EXPECT_LT((after.b_a - before.b_a).norm(), 0.01) << "bias kept";
-  EXPECT_LT(so3::quat_log(before.q_WI.conjugate() * after.q_WI).norm(), 1e-3) << "attitude kept";
+  EXPECT_LT(so3::quat_log(before.T_WI.q.conjugate() * after.T_WI.q).norm(), 1e-3) << "attitude kept";
   // velocity: the step acted for the window's duration (plus half a sample)
   const double tau = static_cast<double>(t - window.back().t_ns) * 1e-9 + 1.25e-3;
   const Eigen::Vector3d dv_expected = tau * (F_true - before.F_ext);
@@ -178,7 +178,7 @@ namespace {
 TEST(ApplyForceJump, BodyForceModelMovesVelocityInTheWorldFrame) {
   FilterState state(true, ForceFrame::kBody, false);
   ImuState x;
-  x.q_WI = so3::quat_exp(Eigen::Vector3d(0.0, 0.0, 1.2));  // yawed: body x is not world x
+  x.T_WI.q = so3::quat_exp(Eigen::Vector3d(0.0, 0.0, 1.2));  // yawed: body x is not world x
   Eigen::MatrixXd P = Eigen::MatrixXd::Identity(state.imu_dim(), state.imu_dim()) * 1e-4;
   P.block<3, 3>(imu_idx::kF, imu_idx::kF) = 0.01 * Eigen::Matrix3d::Identity();
   state.initialize(0, x, P);
@@ -189,7 +189,7 @@ TEST(ApplyForceJump, BodyForceModelMovesVelocityInTheWorldFrame) {
   apply_force_jump(state, d.window, d.jump, kSigma * kSigma, EstimatorParams{}.init_sigma_force_rate);
   EXPECT_LT((state.imu().F_ext - F_I).norm(), 0.05);
   const Eigen::Vector3d dv = state.imu().v_WI - v_before;
-  const Eigen::Vector3d dir_W = x.q_WI * Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d dir_W = x.T_WI.q * Eigen::Vector3d::UnitX();
   EXPECT_GT(dv.normalized().dot(dir_W), 0.99) << dv.transpose();
 }
 

@@ -133,7 +133,7 @@ TEST(PipelineSynthetic, StaticInitializationFromHover) {
   }
   ASSERT_TRUE(res.has_value());
   // roll/pitch recovered (yaw is a gauge): gravity direction matches
-  const Eigen::Vector3d up_est = res->x.q_WI * f_I.normalized();
+  const Eigen::Vector3d up_est = res->x.T_WI.q * f_I.normalized();
   EXPECT_LT((up_est - Eigen::Vector3d::UnitZ()).norm(), 1e-9);
   // tilted thrust with a level-hover specific force: the difference is an external force
   EXPECT_LT((force_in_body(res->x, p.force_frame) - (f_I - Eigen::Vector3d(0, 0, 9.81))).norm(), 1e-9);

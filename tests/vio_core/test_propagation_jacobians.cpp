@@ -17,8 +17,8 @@ using Eigen::VectorXd;
 ImuState perturb(const ImuState& x, const VectorXd& dx) {
   const bool dyn = dx.size() >= 18;
   ImuState y = x;
-  y.q_WI = so3::boxplus(x.q_WI, dx.segment<3>(imu_idx::kTheta));
-  y.p_WI += dx.segment<3>(imu_idx::kP);
+  y.T_WI.q = so3::boxplus(x.T_WI.q, dx.segment<3>(imu_idx::kTheta));
+  y.T_WI.p += dx.segment<3>(imu_idx::kP);
   y.v_WI += dx.segment<3>(imu_idx::kV);
   y.b_g += dx.segment<3>(imu_idx::kBg);
   y.b_a += dx.segment<3>(imu_idx::kBa);
@@ -30,8 +30,8 @@ ImuState perturb(const ImuState& x, const VectorXd& dx) {
 VectorXd difference(const ImuState& a, const ImuState& b, int dim) {
   const bool dyn = dim >= 18;
   VectorXd d(dim);
-  d.segment<3>(imu_idx::kTheta) = so3::boxminus(a.q_WI, b.q_WI);
-  d.segment<3>(imu_idx::kP) = a.p_WI - b.p_WI;
+  d.segment<3>(imu_idx::kTheta) = so3::boxminus(a.T_WI.q, b.T_WI.q);
+  d.segment<3>(imu_idx::kP) = a.T_WI.p - b.T_WI.p;
   d.segment<3>(imu_idx::kV) = a.v_WI - b.v_WI;
   d.segment<3>(imu_idx::kBg) = a.b_g - b.b_g;
   d.segment<3>(imu_idx::kBa) = a.b_a - b.b_a;
@@ -55,8 +55,8 @@ DiscreteNoise noise_from(const VectorXd& n) {
 
 ImuState sample_state() {
   ImuState x;
-  x.q_WI = so3::quat_exp(Vector3d(0.3, -0.5, 2.0));
-  x.p_WI = Vector3d(1.0, -2.0, 1.5);
+  x.T_WI.q = so3::quat_exp(Vector3d(0.3, -0.5, 2.0));
+  x.T_WI.p = Vector3d(1.0, -2.0, 1.5);
   x.v_WI = Vector3d(0.8, 0.3, -0.4);
   x.b_g = Vector3d(0.01, -0.02, 0.015);
   x.b_a = Vector3d(0.1, -0.05, 0.2);
@@ -101,8 +101,7 @@ void check_mode(PropagationMode mode, double dt, ForceFrame frame = ForceFrame::
   const ImuInterval u = sample_interval(dyn, dt);
   const ImuState y = propagate_mean(x, u, mode, g, {}, frame);
   ImuFej fej;
-  fej.q_WI = x.q_WI;
-  fej.p_WI = x.p_WI;
+  fej.T_WI = x.T_WI;
   fej.v_WI = x.v_WI;
   MatrixXd Phi, G;
   propagation_jacobians(x, fej, y, u, mode, g, &Phi, &G, frame, rate);
@@ -158,7 +157,7 @@ TEST(PropagationMean, ForceRateIntegratesTheForceRamp) {
   const ImuState y = propagate_mean(x, u, PropagationMode::kDynamics, Vector3d(0, 0, -9.81), {},
                                     ForceFrame::kWorld);
   EXPECT_LT((y.v_WI - (x.F_ext * 0.2 + x.F_dot * 0.02)).norm(), 1e-12);
-  EXPECT_LT((y.p_WI - (x.F_ext * 0.02 + x.F_dot * (0.008 / 6.0))).norm(), 1e-12);
+  EXPECT_LT((y.T_WI.p - (x.F_ext * 0.02 + x.F_dot * (0.008 / 6.0))).norm(), 1e-12);
   EXPECT_LT((y.F_ext - (x.F_ext + x.F_dot * 0.2)).norm(), 1e-12);
   EXPECT_EQ(y.F_dot, x.F_dot);
 }
@@ -173,7 +172,7 @@ TEST(PropagationMean, ConstantAccelerationIsExact) {
   const ImuState y = propagate_mean(x, u, PropagationMode::kImu, Vector3d(0, 0, -9.81));
   const Vector3d a(0.5, -0.5, 1.0);
   EXPECT_LT((y.v_WI - (x.v_WI + a * 0.3)).norm(), 1e-12);
-  EXPECT_LT((y.p_WI - (x.v_WI * 0.3 + 0.5 * a * 0.09)).norm(), 1e-12);
+  EXPECT_LT((y.T_WI.p - (x.v_WI * 0.3 + 0.5 * a * 0.09)).norm(), 1e-12);
 }
 
 void check_accel_jacobian(ForceFrame frame) {
@@ -187,7 +186,7 @@ void check_accel_jacobian(ForceFrame frame) {
     e(i) = h;
     H_num.col(i) = (predict_accel(perturb(x, e), Tm, frame) - predict_accel(perturb(x, -e), Tm, frame)) / (2 * h);
   }
-  const AccelJacobian J = accel_jacobian(x, x.q_WI, frame);
+  const AccelJacobian J = accel_jacobian(x, x.T_WI.q, frame);
   MatrixXd H = MatrixXd::Zero(3, 21);
   H.block<3, 3>(0, imu_idx::kTheta) = J.H_theta;
   H.block<3, 3>(0, imu_idx::kBa).setIdentity();

@@ -27,8 +27,8 @@ MatrixXd random_spd(int n, unsigned seed) {
 FilterState make_state(bool dyn, ForceFrame frame = ForceFrame::kBody, bool rate = false) {
   FilterState s(dyn, frame, rate);
   ImuState x;
-  x.q_WI = so3::quat_exp(Vector3d(0.1, 0.2, -0.3));
-  x.p_WI = Vector3d(1, 2, 3);
+  x.T_WI.q = so3::quat_exp(Vector3d(0.1, 0.2, -0.3));
+  x.T_WI.p = Vector3d(1, 2, 3);
   if (dyn) x.F_ext = Vector3d(0.4, -0.6, 0.3);
   s.initialize(1000, x, random_spd(s.imu_dim(), 3));
   return s;
@@ -43,8 +43,8 @@ TEST(FilterState, AugmentationCopiesImuPoseBlock) {
   const CloneState& c = s.clones().back();
   EXPECT_EQ(c.cov_index, 18);
   EXPECT_EQ(c.t_ns, 1000);
-  EXPECT_TRUE(c.T_WI.q.isApprox(s.imu().q_WI));
-  EXPECT_TRUE(c.T_WI_fej.p.isApprox(s.imu_fej().p_WI));
+  EXPECT_TRUE(c.T_WI.q.isApprox(s.imu().T_WI.q));
+  EXPECT_TRUE(c.T_WI_fej.p.isApprox(s.imu_fej().T_WI.p));
   // P_new = J P J^T with J = [I; selection of dtheta, dp]
   MatrixXd J = MatrixXd::Zero(24, 18);
   J.topRows(18).setIdentity();
@@ -56,7 +56,7 @@ TEST(FilterState, MarginalizationDropsOldestCloneAndReindexes) {
   FilterState s = make_state(false);
   for (int i = 0; i < 3; ++i) {
     s.set_time(1000 + i);
-    s.imu().p_WI.x() += 1.0;
+    s.imu().T_WI.p.x() += 1.0;
     s.augment_clone();
   }
   // Make the clone blocks distinguishable.
@@ -146,7 +146,7 @@ void check_accel_update(ForceFrame frame, bool rate) {
   for (int i = 0; i < 3; ++i) s.augment_clone();
   s.P() = random_spd(s.dim(), 13);
   const Vector3d Tm(0, 0, 9.7), a_m(0.2, -0.1, 9.9);
-  const AccelJacobian J = accel_jacobian(s.imu(), s.imu_fej().q_WI, frame);
+  const AccelJacobian J = accel_jacobian(s.imu(), s.imu_fej().T_WI.q, frame);
   MatrixXd H = MatrixXd::Zero(3, s.dim());
   H.block<3, 3>(0, imu_idx::kTheta) = J.H_theta;
   H.block<3, 3>(0, imu_idx::kBa).setIdentity();
@@ -196,14 +196,14 @@ TEST(FilterState, ForceRateStateExtendsTheImuBlock) {
 
 TEST(ForceFrames, BodyAndWorldViewsAgree) {
   ImuState x;
-  x.q_WI = so3::quat_exp(Vector3d(0.2, -0.4, 1.1));
+  x.T_WI.q = so3::quat_exp(Vector3d(0.2, -0.4, 1.1));
   const Vector3d F_I(0.5, -1.0, 0.25);
   set_force_from_body(x, ForceFrame::kWorld, F_I);
   EXPECT_LT((force_in_body(x, ForceFrame::kWorld) - F_I).norm(), 1e-15);
-  EXPECT_LT((force_in_world(x, ForceFrame::kWorld) - x.q_WI * F_I).norm(), 1e-15);
+  EXPECT_LT((force_in_world(x, ForceFrame::kWorld) - x.T_WI.q * F_I).norm(), 1e-15);
   set_force_from_body(x, ForceFrame::kBody, F_I);
   EXPECT_EQ(x.F_ext, F_I);
-  EXPECT_LT((force_in_world(x, ForceFrame::kBody) - x.q_WI * F_I).norm(), 1e-15);
+  EXPECT_LT((force_in_world(x, ForceFrame::kBody) - x.T_WI.q * F_I).norm(), 1e-15);
 }
 
 }  // namespace

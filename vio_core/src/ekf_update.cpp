@@ -95,7 +95,7 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   } else {
     // World-frame force: H_theta = [R^T F_W]x, H_F = R^T, H_ba = I, linearized at the first
     // estimate of R so that H annihilates the yaw direction of the propagation's nullspace.
-    const AccelJacobian J = accel_jacobian(state.imu(), state.imu_fej().q_WI, ForceFrame::kWorld);
+    const AccelJacobian J = accel_jacobian(state.imu(), state.imu_fej().T_WI.q, ForceFrame::kWorld);
     PHt = P.middleCols<3>(imu_idx::kBa);
     PHt.noalias() += P.middleCols<3>(imu_idx::kTheta) * J.H_theta.transpose();
     PHt.noalias() += P.middleCols<3>(imu_idx::kF) * J.H_F.transpose();
@@ -112,12 +112,12 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   const bool gated = chi2_threshold > 0.0 && !(res.chi2 <= chi2_threshold);
   if (info != nullptr) {
     const bool world = state.force_frame() == ForceFrame::kWorld;
-    const Eigen::Matrix3d R = world ? state.imu().q_WI.toRotationMatrix() : Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d R = world ? state.imu().T_WI.q.toRotationMatrix() : Eigen::Matrix3d::Identity();
     info->t_ns = state.time();
     info->w = R * r;
     info->S = R * S * R.transpose();
     info->y = R * (a_m - T_m);
-    info->R_WI = state.imu().q_WI.toRotationMatrix();  // the estimate itself, in both force models
+    info->R_WI = state.imu().T_WI.q.toRotationMatrix();  // the estimate itself, in both force models
     info->dx_imu.setZero();
     info->gated = gated;
   }

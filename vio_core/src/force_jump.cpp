@@ -126,7 +126,7 @@ void apply_force_jump(FilterState& state, const std::vector<AccelInnovation>& wi
   Eigen::Vector3d h = x.F_ext + R_bar * x.b_a;
   // theta: the rotation that brought each sample into the force frame carries the attitude
   // error, y = F + R b_a + R [R^T y]x dtheta (right perturbation; zero in the body model).
-  const Eigen::Matrix3d R = x.q_WI.toRotationMatrix();
+  const Eigen::Matrix3d R = x.T_WI.q.toRotationMatrix();
   H.block<3, 3>(0, 0) = world ? Eigen::Matrix3d(R * so3::skew(R.transpose() * y_bar)) : Eigen::Matrix3d::Zero();
   H.block<3, 3>(0, 3) = R_bar;
   H.block<3, 3>(0, 6).setIdentity();

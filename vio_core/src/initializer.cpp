@@ -25,8 +25,7 @@ Eigen::Quaterniond gravity_aligned_orientation(const Eigen::Vector3d& f_I) {
 
 ImuState state_from_groundtruth(const GroundTruthSample& gt) {
   ImuState x;
-  x.q_WI = gt.q_WI;
-  x.p_WI = gt.p_WI;
+  x.T_WI = gt.T_WI;
   x.v_WI = gt.v_WI;
   x.b_g = gt.b_g;
   x.b_a = gt.b_a;
@@ -106,13 +105,13 @@ std::optional<InitResult> StaticInitializer::add(TimeNs t_ns, const Eigen::Vecto
   }
   InitResult r;
   r.t_ns = window_.back().t;
-  r.x.q_WI = gravity_aligned_orientation(a_mean);
+  r.x.T_WI.q = gravity_aligned_orientation(a_mean);
   r.x.b_g = w_mean;
   if (params_.mode == PropagationMode::kDynamics) {
     // Hover: a ≈ T_m (F_ext ≈ 0); resting on ground: the support is an external force.
     set_force_from_body(r.x, params_.force_frame, a_mean - T_mean);
   }
-  r.P = initial_covariance(params_, r.x.q_WI);
+  r.P = initial_covariance(params_, r.x.T_WI.q);
   return r;
 }
 

@@ -186,10 +186,10 @@ void Pipeline::process_imu(const ImuInput& in) {
       if (last_gt_ && std::llabs(last_gt_->t_ns - in.t) <= kGtInitToleranceNs) {
         ImuState x = state_from_groundtruth(*last_gt_);
         if (last_force_W_ && config_.vehicle.mass_kg > 0.0) {
-          set_force_from_body(x, p.force_frame, x.q_WI.conjugate() * (*last_force_W_ / config_.vehicle.mass_kg));
+          set_force_from_body(x, p.force_frame, x.T_WI.q.conjugate() * (*last_force_W_ / config_.vehicle.mass_kg));
         }
         // Ground truth is taken at its own time; the small offset to t_in is ignored.
-        initialize(in.t, x, initial_covariance(p, x.q_WI));
+        initialize(in.t, x, initial_covariance(p, x.T_WI.q));
       }
     } else if (auto r = initializer_.add(in.t, in.gyro, in.accel, in.T_m)) {
       initialize(r->t_ns, r->x, r->P);
@@ -341,7 +341,7 @@ void Pipeline::check_divergence(bool full) {
   const ImuState& x = state_.imu();
   const EstimatorParams& p = config_.params;
   std::string why;
-  const bool mean_finite = x.q_WI.coeffs().allFinite() && x.p_WI.allFinite() &&
+  const bool mean_finite = x.T_WI.q.coeffs().allFinite() && x.T_WI.p.allFinite() &&
                            x.v_WI.allFinite() && x.b_g.allFinite() && x.b_a.allFinite() &&
                            x.F_ext.allFinite();
   const Eigen::VectorXd diag = state_.P().diagonal();
@@ -382,7 +382,7 @@ void Pipeline::emit(TimeNs t) {
     const ForceFrame frame = state_.force_frame();
     o.F_ext_I = force_in_body(o.x, frame);
     o.F_ext_W = force_in_world(o.x, frame);
-    const Eigen::Matrix3d R = o.x.q_WI.toRotationMatrix();
+    const Eigen::Matrix3d R = o.x.T_WI.q.toRotationMatrix();
     Eigen::Matrix<double, 3, 6> J;
     if (frame == ForceFrame::kBody) {
       J << -R * so3::skew(o.F_ext_I), R;

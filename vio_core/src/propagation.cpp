@@ -62,15 +62,15 @@ ImuState propagate_mean(const ImuState& x, const ImuInterval& u, PropagationMode
   const double dt = u.dt;
   const Vector3d w = mid_rate(x, u, noise);
   const Drive d = stage_drive(x, u, mode, frame, g_W, noise);
-  const Matrix3d R_k = x.q_WI.toRotationMatrix();
+  const Matrix3d R_k = x.T_WI.q.toRotationMatrix();
   Vector3d f[3];
   for (int i = 0; i < 3; ++i) {
     f[i] = R_k * (so3::exp(w * (kStage[i] * dt)) * d.a[i]) + d.o[i];
   }
   ImuState y = x;
-  y.q_WI = so3::boxplus(x.q_WI, w * dt);
+  y.T_WI.q = so3::boxplus(x.T_WI.q, w * dt);
   y.v_WI = x.v_WI + simpson_v(dt, f[0], f[1], f[2]);
-  y.p_WI = x.p_WI + x.v_WI * dt + simpson_p(dt, f[0], f[1]);
+  y.T_WI.p = x.T_WI.p + x.v_WI * dt + simpson_p(dt, f[0], f[1]);
   y.b_g = x.b_g + noise.w_g;
   y.b_a = x.b_a + noise.w_a;
   if (mode == PropagationMode::kDynamics) {
@@ -93,9 +93,9 @@ void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuSt
   const Vector3d w = mid_rate(x_k, u, DiscreteNoise{});
   const Drive drv = stage_drive(x_k, u, mode, frame, g_W, DiscreteNoise{});
   const bool world_force = dyn && frame == ForceFrame::kWorld;
-  const Matrix3d R_k = x_k.q_WI.toRotationMatrix();
-  const Matrix3d R_k_fej = fej_k.q_WI.toRotationMatrix();
-  const Matrix3d R_k1 = x_k1.q_WI.toRotationMatrix();  // first estimate of t_{k+1}
+  const Matrix3d R_k = x_k.T_WI.q.toRotationMatrix();
+  const Matrix3d R_k_fej = fej_k.T_WI.q.toRotationMatrix();
+  const Matrix3d R_k1 = x_k1.T_WI.q.toRotationMatrix();  // first estimate of t_{k+1}
 
   Eigen::MatrixXd& Phi = *Phi_out;
   Phi.setIdentity(d, d);
@@ -107,7 +107,7 @@ void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuSt
   // Jacobian -R_k [sum w_i dR_i a_i]x when the first estimates equal the current estimate.
   // The world offset (g, and F_W in the world-force model) does not turn with dtheta.
   const Vector3d dv = x_k1.v_WI - fej_k.v_WI - simpson_v(dt, drv.o[0], drv.o[1], drv.o[2]);
-  const Vector3d dp = x_k1.p_WI - fej_k.p_WI - fej_k.v_WI * dt - simpson_p(dt, drv.o[0], drv.o[1]);
+  const Vector3d dp = x_k1.T_WI.p - fej_k.T_WI.p - fej_k.v_WI * dt - simpson_p(dt, drv.o[0], drv.o[1]);
   Phi.block<3, 3>(ix::kV, ix::kTheta) = -so3::skew(dv) * R_k_fej;
   Phi.block<3, 3>(ix::kP, ix::kTheta) = -so3::skew(dp) * R_k_fej;
   Phi.block<3, 3>(ix::kP, ix::kV) = Matrix3d::Identity() * dt;
@@ -206,7 +206,7 @@ void propagate(FilterState& state, const ImuInterval& u, const EstimatorParams& 
     P.bottomLeftCorner(n - d, d) = P_ir.transpose();
   }
   state.imu() = x_k1;
-  state.imu().q_WI = so3::normalized(x_k1.q_WI);
+  state.imu().T_WI.q = so3::normalized(x_k1.T_WI.q);
   // The freshly propagated value is the first estimate at the new time.
   state.reset_imu_fej();
   state.set_time(state.time() + static_cast<TimeNs>(std::llround(u.dt * 1e9)));

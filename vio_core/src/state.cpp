@@ -12,15 +12,15 @@
 namespace vid {
 
 Eigen::Vector3d force_in_body(const ImuState& x, ForceFrame frame) {
-  return frame == ForceFrame::kBody ? x.F_ext : Eigen::Vector3d(x.q_WI.conjugate() * x.F_ext);
+  return frame == ForceFrame::kBody ? x.F_ext : Eigen::Vector3d(x.T_WI.q.conjugate() * x.F_ext);
 }
 
 Eigen::Vector3d force_in_world(const ImuState& x, ForceFrame frame) {
-  return frame == ForceFrame::kWorld ? x.F_ext : Eigen::Vector3d(x.q_WI * x.F_ext);
+  return frame == ForceFrame::kWorld ? x.F_ext : Eigen::Vector3d(x.T_WI.q * x.F_ext);
 }
 
 void set_force_from_body(ImuState& x, ForceFrame frame, const Eigen::Vector3d& F_I) {
-  x.F_ext = frame == ForceFrame::kBody ? F_I : Eigen::Vector3d(x.q_WI * F_I);
+  x.F_ext = frame == ForceFrame::kBody ? F_I : Eigen::Vector3d(x.T_WI.q * F_I);
 }
 
 FilterState::FilterState(const EstimatorParams& params)
@@ -39,7 +39,7 @@ void FilterState::initialize(TimeNs t_ns, const ImuState& imu, const Eigen::Matr
   }
   t_ns_ = t_ns;
   imu_ = imu;
-  imu_.q_WI = so3::normalized(imu.q_WI);
+  imu_.T_WI.q = so3::normalized(imu.T_WI.q);
   if (!with_force_) imu_.F_ext.setZero();
   if (!with_force_rate_) imu_.F_dot.setZero();
   calib_.clear();
@@ -49,8 +49,7 @@ void FilterState::initialize(TimeNs t_ns, const ImuState& imu, const Eigen::Matr
 }
 
 void FilterState::reset_imu_fej() {
-  imu_fej_.q_WI = imu_.q_WI;
-  imu_fej_.p_WI = imu_.p_WI;
+  imu_fej_.T_WI = imu_.T_WI;
   imu_fej_.v_WI = imu_.v_WI;
 }
 
@@ -66,8 +65,8 @@ void FilterState::augment_clone() {
 
   CloneState c;
   c.t_ns = t_ns_;
-  c.T_WI = {imu_.q_WI, imu_.p_WI};
-  c.T_WI_fej = {imu_fej_.q_WI, imu_fej_.p_WI};
+  c.T_WI = imu_.T_WI;
+  c.T_WI_fej = imu_fej_.T_WI;
   c.cov_index = n;
   clones_.push_back(c);
 }
@@ -124,8 +123,8 @@ void FilterState::apply_correction(const Eigen::VectorXd& dx) {
     throw std::invalid_argument("FilterState::apply_correction: size " + std::to_string(dx.size()) +
                                 " != state dimension " + std::to_string(dim()));
   }
-  imu_.q_WI = so3::boxplus(imu_.q_WI, dx.segment<3>(imu_idx::kTheta));
-  imu_.p_WI += dx.segment<3>(imu_idx::kP);
+  imu_.T_WI.q = so3::boxplus(imu_.T_WI.q, dx.segment<3>(imu_idx::kTheta));
+  imu_.T_WI.p += dx.segment<3>(imu_idx::kP);
   imu_.v_WI += dx.segment<3>(imu_idx::kV);
   imu_.b_g += dx.segment<3>(imu_idx::kBg);
   imu_.b_a += dx.segment<3>(imu_idx::kBa);

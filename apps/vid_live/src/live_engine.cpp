@@ -263,12 +263,12 @@ void LiveEngine::publish_estimate(const system::System& s, const EstimateOutput&
   // Worker thread, inside session_->push(); the mutex is not held.
   state_t st;
   st.timestamp = e.t_ns;
-  const Eigen::Quaterniond q = e.x.q_WI.normalized();
+  const Eigen::Quaterniond q = e.x.T_WI.q.normalized();
   const Eigen::Vector3d& f_W = e.F_ext_W;
   const Eigen::Vector3d& f_I = e.F_ext_I;
   const Eigen::Vector3d sigma_F = e.cov_F_I.diagonal().cwiseMax(0.0).cwiseSqrt();  // body, as force.csv
   for (int i = 0; i < 3; ++i) {
-    st.p[i] = e.x.p_WI[i];
+    st.p[i] = e.x.T_WI.p[i];
     st.v[i] = e.x.v_WI[i];
     st.b_g[i] = e.x.b_g[i];
     st.b_a[i] = e.x.b_a[i];

@@ -16,8 +16,7 @@ namespace vid::system {
 /// @brief One estimate as written to the outputs (IMU rate).
 struct EstimateRow {
   TimeNs t_ns = 0;
-  Eigen::Quaterniond q_WI = Eigen::Quaterniond::Identity();
-  Eigen::Vector3d p_WI = Eigen::Vector3d::Zero();
+  Pose T_WI;
   Eigen::Vector3d v_WI = Eigen::Vector3d::Zero();
   Eigen::Vector3d b_g = Eigen::Vector3d::Zero();
   Eigen::Vector3d b_a = Eigen::Vector3d::Zero();
@@ -25,6 +24,10 @@ struct EstimateRow {
   /// 1-sigma of [dtheta(3), dp(3), dv(3), db_g(3), db_a(3), dF_I(3)]; F is 0 in imu mode
   Eigen::Matrix<double, 18, 1> sigma = Eigen::Matrix<double, 18, 1>::Zero();
 };
+
+/// @brief One line of trajectory_tum.txt: "t tx ty tz qx qy qz qw", t in seconds with 9
+/// decimals (exact for integer ns), the quaternion normalized.
+std::string tum_line(const TimedPose& x);
 
 /// @brief Per camera frame stage times [ms].
 struct TimingRow {

@@ -42,7 +42,7 @@ struct AccelJacobian {
 };
 
 /// @brief Jacobian of predict_accel at x, with the rotation taken at q_WI_lin (the first
-/// estimate, for observability consistency; pass x.q_WI for the exact Jacobian).
+/// estimate, for observability consistency; pass x.T_WI.q for the exact Jacobian).
 AccelJacobian accel_jacobian(const ImuState& x, const Eigen::Quaterniond& q_WI_lin, ForceFrame frame);
 
 /// @brief Accelerometer update (dynamics mode) with isotropic discrete noise variance

@@ -10,6 +10,8 @@
 #include <variant>
 #include <vector>
 
+#include "geometry/pose.h"
+
 namespace vid {
 
 /// Nanoseconds since an arbitrary epoch; the only time type in files and interfaces.
@@ -17,6 +19,12 @@ using TimeNs = std::int64_t;
 
 /// @brief Convert nanoseconds to seconds (double).
 inline double ns_to_s(TimeNs t) { return static_cast<double>(t) * 1e-9; }
+
+/// @brief A pose at a time: one row of a trajectory (trajectory_tum.txt, docs/formats.md §2).
+struct TimedPose {
+  TimeNs t_ns = 0;
+  Pose T;  ///< the frames are those of the trajectory (T_WI for the estimator's)
+};
 
 /// @brief One IMU sample: body rate and specific force, both in the IMU frame I.
 struct ImuSample {
@@ -82,8 +90,7 @@ struct MassSample {
 /// @brief Ground-truth state, EuRoC state_groundtruth_estimate0 columns (R = W, S = I).
 struct GroundTruthSample {
   TimeNs t_ns = 0;
-  Eigen::Vector3d p_WI = Eigen::Vector3d::Zero();
-  Eigen::Quaterniond q_WI = Eigen::Quaterniond::Identity();
+  Pose T_WI;  ///< p_RS, q_RS
   Eigen::Vector3d v_WI = Eigen::Vector3d::Zero();
   Eigen::Vector3d b_g = Eigen::Vector3d::Zero();
   Eigen::Vector3d b_a = Eigen::Vector3d::Zero();

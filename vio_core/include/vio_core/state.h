@@ -35,8 +35,7 @@ constexpr int kFdot = 18;  ///< only with the force-rate state
 
 /// @brief Mean of the IMU block.
 struct ImuState {
-  Eigen::Quaterniond q_WI = Eigen::Quaterniond::Identity();
-  Eigen::Vector3d p_WI = Eigen::Vector3d::Zero();
+  Pose T_WI;  ///< IMU pose in the world
   Eigen::Vector3d v_WI = Eigen::Vector3d::Zero();
   Eigen::Vector3d b_g = Eigen::Vector3d::Zero();
   Eigen::Vector3d b_a = Eigen::Vector3d::Zero();
@@ -57,8 +56,7 @@ void set_force_from_body(ImuState& x, ForceFrame frame, const Eigen::Vector3d& F
 /// @brief First estimates of the IMU pose/velocity (the value the state had when it was first
 /// propagated to the current time; used for observability-consistent linearization).
 struct ImuFej {
-  Eigen::Quaterniond q_WI = Eigen::Quaterniond::Identity();
-  Eigen::Vector3d p_WI = Eigen::Vector3d::Zero();
+  Pose T_WI;
   Eigen::Vector3d v_WI = Eigen::Vector3d::Zero();
 };
 
