@@ -44,6 +44,8 @@ const DoubleField kDoubles[] = {
     VID_FIELD(pixel_noise_px),
     VID_FIELD(chi2_multiplier),
     VID_FIELD(triangulation_max_condition),
+    VID_FIELD(zero_velocity_max_parallax_px),
+    VID_FIELD(zero_velocity_sigma),
     VID_FIELD(init_window_s),
     VID_FIELD(init_accel_std_max),
     VID_FIELD(init_gyro_std_max),

@@ -24,6 +24,7 @@ void add_counters(PipelineCounters& a, const PipelineCounters& b) {
   a.features_rejected += b.features_rejected;
   a.features_rejected_chi2 += b.features_rejected_chi2;
   a.features_too_short += b.features_too_short;
+  a.zero_velocity_updates += b.zero_velocity_updates;
   a.observations_without_norm += b.observations_without_norm;
 }
 
@@ -86,7 +87,9 @@ nlohmann::json System::summary() const {
                  {"frames_skipped_by_filter", c.frames_skipped},
                  {"visual_updates", c.visual_updates},
                  {"features_used", c.features_used},
-                 {"features_rejected", c.features_rejected}};
+                 {"features_rejected", c.features_rejected},
+                 {"features_rejected_chi2", c.features_rejected_chi2},
+                 {"zero_velocity_updates", c.zero_velocity_updates}};
   if (restarts_ > 0) s["counts"]["estimator_restarts"] = restarts_;
   s["accel"] = accel_report(c);
   s["timing"] = stage_times_.to_json();  // frontend + estimator stages; excludes image decoding

@@ -269,6 +269,8 @@ TEST(EstimatorParamsYaml, RoundTripEveryFieldChanged) {
   p.max_features_per_update = 0;
   p.use_stereo = false;
   p.msckf_normal_equations = false;
+  p.zero_velocity_max_parallax_px = 2.5;
+  p.zero_velocity_sigma = 0.05;
   p.init_window_s = 0.7;
   p.init_accel_std_max = 0.2;
   p.init_gyro_std_max = 0.04;
@@ -299,6 +301,8 @@ TEST(EstimatorParamsYaml, RoundTripEveryFieldChanged) {
   EXPECT_FALSE(q.msckf_normal_equations);
   EXPECT_EQ(q.max_features_per_update, 0);
   EXPECT_EQ(q.init_sigma_force, 0.7);
+  EXPECT_EQ(q.zero_velocity_max_parallax_px, 2.5);
+  EXPECT_EQ(q.zero_velocity_sigma, 0.05);
   // Defaults survive an empty file; errors name key and line.
   EXPECT_EQ(to_yaml(load_estimator_params_string("{}", "e.yaml")), to_yaml(EstimatorParams{}));
   EXPECT_EQ(config_error([] { load_estimator_params_string("mode: imu\nwindow_sise: 3\n", "e.yaml"); }),
@@ -314,12 +318,12 @@ TEST(EstimatorParamsYaml, RoundTripEveryFieldChanged) {
 }
 
 TEST(EstimatorParamsYaml, LoaderKnowsEveryField) {
-  // Drift guard: the loader's tables hold 34 doubles, 4 ints, 7 bools and 3 enums (48 keys),
-  // which is 344 bytes with padding. If vio_core adds or removes a field, this fails until the tables in
+  // Drift guard: the loader's tables hold 36 doubles, 4 ints, 7 bools and 3 enums (50 keys),
+  // which is 360 bytes with padding. If vio_core adds or removes a field, this fails until the tables in
   // io/src/estimator_params_yaml.cpp (and this count) are updated.
   const std::string y = to_yaml(EstimatorParams{});
-  EXPECT_EQ(std::count(y.begin(), y.end(), '\n'), 48);
-  EXPECT_EQ(sizeof(EstimatorParams), 344u)
+  EXPECT_EQ(std::count(y.begin(), y.end(), '\n'), 50);
+  EXPECT_EQ(sizeof(EstimatorParams), 360u)
       << "EstimatorParams changed: update the field tables in io/src/estimator_params_yaml.cpp";
 }
 

@@ -158,6 +158,7 @@ void Pipeline::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd&
   jumps_.clear();
   last_input_.reset();
   features_ = std::make_unique<msckf::FeatureDatabase>();
+  parallax_ = ParallaxWindow();
   status_ = FilterStatus::kOk;
   status_message_ = "ok";
 }
@@ -286,6 +287,10 @@ void Pipeline::process_frame(const FeatureFrame& f) {
 
   const std::vector<msckf::ClonePose> clones = msckf::clone_poses(state_);
   const bool window_full = static_cast<int>(clones.size()) > p.window_size;
+  if (!p.use_stereo && p.zero_velocity_max_parallax_px > 0.0 && !config_.cameras.empty()) {
+    parallax_.add(usable);
+    zero_velocity_if_still(clones.front(), clones.back());
+  }
   std::vector<msckf::FeatureTrack> tracks = features_->select_for_update(clones, f.t_ns, window_full);
   if (p.max_features_per_update > 0 && static_cast<int>(tracks.size()) > p.max_features_per_update) {
     // keep the longest tracks (most constraints); ties by id for determinism
@@ -329,12 +334,28 @@ void Pipeline::process_frame(const FeatureFrame& f) {
   if (window_full) {
     features_->remove_observations_at(state_.clones().front().t_ns);
     state_.marginalize_oldest_clone();
+    parallax_.drop_before(state_.clones().front().t_ns);
   }
   tm.marginalization_ms = ms_since(t_marg);
   tm.clones = static_cast<int>(state_.clones().size());
   check_divergence(true);
   if (on_frame_) on_frame_(tm);
   pending_timings_ = FrameTimings{};
+}
+
+void Pipeline::zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest) {
+  // A median over fewer features is not a statement about the scene; over less than 0.25 s
+  // (5 frames at 20 Hz) slow motion has not yet shown above the pixel noise.
+  constexpr int kMinFeatures = 20;
+  constexpr TimeNs kMinSpanNs = 250'000'000;
+  if (newest.t_ns - oldest.t_ns < kMinSpanNs) return;
+  const CameraCalib& cam = config_.cameras.front();
+  const Eigen::Matrix3d R_IC = cam.T_IC.linear();
+  const Eigen::Matrix3d R_new_old = R_IC.transpose() * newest.R_WI.transpose() * oldest.R_WI * R_IC;
+  const WindowParallax px = rotation_compensated_parallax(parallax_.matches(oldest.t_ns), R_new_old,
+                                                          0.5 * (cam.intrinsics[0] + cam.intrinsics[1]));
+  if (px.features < kMinFeatures || !(px.median_px < config_.params.zero_velocity_max_parallax_px)) return;
+  if (zero_velocity_update(state_, config_.params.zero_velocity_sigma)) ++counters_.zero_velocity_updates;
 }
 
 void Pipeline::check_divergence(bool full) {

@@ -32,10 +32,12 @@
 #include "vio_core/measurements.h"
 #include "vio_core/state.h"
 #include "vio_core/thrust_buffer.h"
+#include "vio_core/zero_velocity.h"
 
 namespace vid {
 namespace msckf {
 class FeatureDatabase;
+struct ClonePose;
 }
 
 /// @brief Filter health.
@@ -110,6 +112,7 @@ struct PipelineCounters {
   long features_rejected = 0;   ///< chi2 + triangulation
   long features_rejected_chi2 = 0;
   long features_too_short = 0;
+  long zero_velocity_updates = 0;  ///< frames whose window showed no parallax (one camera)
   long observations_without_norm = 0;
 };
 
@@ -150,6 +153,7 @@ class Pipeline {
   void integrate_to(const ImuInput& a, const ImuInput& b, TimeNs t_end, double noise_scale,
                     double thrust_scale);
   void process_frame(const FeatureFrame& f);
+  void zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest);
   void check_divergence(bool full);
   void emit(TimeNs t);
   void accel_step(const ImuInput& in);
@@ -172,6 +176,7 @@ class Pipeline {
   PipelineCounters counters_;
   FrameTimings pending_timings_;
   ForceJumpDetector jumps_;
+  ParallaxWindow parallax_;  ///< cam0 frames of the clone window (one camera: zero-velocity test)
   std::function<void(const EstimateOutput&)> on_estimate_;
   std::function<void(const FrameTimings&)> on_frame_;
 };
