@@ -329,7 +329,8 @@ def render(args, rows, meta) -> int:
             cpu = ln.split(":", 1)[1].strip()
             break
     lines.append(f"Machine: {cpu}, {os.cpu_count()} cores, Linux {platform.release()}; both estimators "
-                 f"pinned to the same core (`taskset -c {cores}`; one sequence list per core), "
+                 f"pinned to the same core (`taskset -c {cores}`"
+                 + ("; one sequence list per core" if len(meta) > 1 else "") + "), "
                  f"{repeats} repeat(s), largest 1-min load average before a run: {max_load:.2f}"
                  + (" (**provisional: above 1.2, other processes shared the machine**)" if max_load > 1.2 else "")
                  + f"; ended {max(m['ended'] for m in meta)}, {max(m['minutes'] for m in meta):.0f} min.")
