@@ -99,7 +99,7 @@ struct EstimatorParams {
 
   // --- zero-velocity update (one camera; vio_core/zero_velocity.h) ---
   /// With use_stereo false: when the median rotation-compensated parallax of cam0's features
-  /// between the oldest clone of a full window and now is below this [px] (>= 20 features),
+  /// between the oldest clone and now (>= 0.25 s apart, >= 20 features) is below this [px],
   /// apply v_WI = 0; 0 = off. 1.5 px is above the parallax of pixel noise on still features
   /// (median 1.66 sigma: 0.8 px at 0.5 px) and is what 2 cm/s shows over 0.5 s at 3 m depth
   /// (f = 450 px); deeper scenes hide faster motion. Stereo sees depth in every frame and does
