@@ -115,13 +115,13 @@ class PhaseSegmentation:
         """Length of segment ``name`` [s] (for landed/airborne, without the windows)."""
         if name not in (LANDED, AIRBORNE):
             e = self.event(name)
-            return (e.w1_ns - e.w0_ns) * 1e-9
+            return (e.w1_ns - e.w0_ns) / 1e9
         total = 0
         for iv in self.intervals:
             if iv.phase == name:
                 total += iv.t1_ns - iv.t0_ns - sum(max(0, min(iv.t1_ns, b) - max(iv.t0_ns, a))
                                                    for a, b in self._merged_windows())
-        return total * 1e-9
+        return total / 1e9
 
     def _merged_windows(self) -> List[Tuple[int, int]]:
         out: List[Tuple[int, int]] = []
@@ -134,7 +134,7 @@ class PhaseSegmentation:
 
     def t_s(self, t_ns: int) -> float:
         """Seconds since the first phase0 sample."""
-        return (int(t_ns) - self.t0_ns) * 1e-9
+        return (int(t_ns) - self.t0_ns) / 1e9  # division: 15.0, not 15.000000000000002
 
     def as_dict(self) -> dict:
         """JSON-friendly record: source, window, intervals and events."""
