@@ -109,12 +109,12 @@ def event_responses(seg: PhaseSegmentation, resp: ForceResponse) -> List[EventRe
         l1 = np.median(after, axis=0) if len(after) else None
         end = min(ev.t_ns + follow, hi)
         k = np.flatnonzero((t >= ev.t_ns) & (t <= end))
-        rec = EventResponse(ev, seg.t_s(ev.t_ns), l0, l1, None, max(0, end - ev.t_ns) * 1e-9,
+        rec = EventResponse(ev, seg.t_s(ev.t_ns), l0, l1, None, max(0, end - ev.t_ns) / 1e9,
                             float(np.max(err[k])) if k.size else None, None)
         if rec.step is not None and k.size:
             rec.band = resp.params["tol"] * rec.step + resp.noise_band
             j = settling_index(err[k], rec.band)
-            rec.settling_s = None if j is None else (0.0 if j == 0 else (t[k[j]] - ev.t_ns) * 1e-9)
+            rec.settling_s = None if j is None else (0.0 if j == 0 else (t[k[j]] - ev.t_ns) / 1e9)
         out.append(rec)
     return out
 
