@@ -137,8 +137,9 @@ def test_phases_option_and_window(tmp_path):
     segs = {s["name"]: s for s in ph["segments"]}
     assert segs["lift-off 1"]["pairs"] == 51  # estimate samples (even) within +-50 of 1000
     assert segs["lift-off 1"]["duration_s"] == 0.5
-    proc = run_cli_in_process("traj", paths["state"], paths["gt"], "--phase-window", "0")
-    assert proc.returncode == 2 and "must be positive" in proc.stderr
+    for bad in ("0", "inf"):
+        proc = run_cli_in_process("traj", paths["state"], paths["gt"], "--phase-window", bad)
+        assert proc.returncode == 2 and "must be positive" in proc.stderr
 
 
 def test_body_frame_without_a_trajectory_scores_body_only(tmp_path):

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 from pathlib import Path
 from typing import Any, Dict, Optional
@@ -40,7 +41,7 @@ def _positive_seconds(text: str) -> float:
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"'{text}' is not a number of seconds") from None
-    if not value > 0:
+    if not (value > 0 and math.isfinite(value)):
         raise argparse.ArgumentTypeError(f"must be positive, got {text}")
     return value
 
@@ -61,7 +62,7 @@ def phases_from_args(args: argparse.Namespace, gt_path: str) -> Optional[PhaseSe
     path = args.phases or find_phases(gt_path)
     if path is None:
         return None
-    return segment_phases(load_phases(path), args.phase_window)
+    return segment_phases(load_phases(abspath(path)), args.phase_window)
 
 
 def seconds_to_ns(s: float) -> int:
