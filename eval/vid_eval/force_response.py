@@ -133,6 +133,11 @@ class ForceResponse:
         return np.arange(len(self.gt)) * self.dt
 
     @property
+    def t_ns(self) -> np.ndarray:
+        """Grid times on the ground-truth clock [ns] (as :func:`resample_common` builds them)."""
+        return self.t0_ns + np.round(np.arange(len(self.gt)) * self.dt * 1e9).astype(np.int64)
+
+    @property
     def lag(self) -> Optional[float]:
         """Combined lag [s] (positive: the estimate lags)."""
         return self.lag_s[3]
@@ -277,6 +282,17 @@ def _dist(x: np.ndarray, ref: np.ndarray) -> np.ndarray:
     return np.linalg.norm(x - ref, axis=-1)
 
 
+def settling_index(err: np.ndarray, band: float) -> Optional[int]:
+    """Index of the first sample from which ``err <= band`` holds to the end of ``err`` (0 when
+    it always does); None when the last sample is outside the band (not settled)."""
+    out = np.flatnonzero(np.asarray(err) > band)
+    if out.size == 0:
+        return 0
+    if out[-1] == len(err) - 1:
+        return None
+    return int(out[-1]) + 1
+
+
 def _find_steps(g, e, dt, step_min, nr, nh, nwin, tol, band) -> List[Step]:
     n = len(g)
     m_len = n - 2 * nh - nr + 1  # pre-window starts j with a full post window
@@ -303,13 +319,8 @@ def _find_steps(g, e, dt, step_min, nr, nh, nwin, tol, band) -> List[Step]:
         if left.size:
             k_end = q + int(left[0]) - 1
         w = err[k_s:k_end + 1]
-        out = np.flatnonzero(w > b)
-        if out.size == 0:
-            settle = 0.0
-        elif out[-1] == len(w) - 1:
-            settle = None
-        else:
-            settle = (int(out[-1]) + 1) * dt
+        k_settle = settling_index(w, b)
+        settle = None if k_settle is None else k_settle * dt
         steps.append(Step(0, k_s * dt, L0.copy(), L1.copy(), b, (k_end - k_s) * dt,
                           float(np.max(w)), settle))
     return steps

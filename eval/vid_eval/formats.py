@@ -70,6 +70,10 @@ FORCE0_RATE_COLUMNS: List[Column] = [(f"dF{a}/dt", "N s^-1") for a in "xyz"]
 MASS_COLUMNS: List[Column] = [("timestamp", "ns"), ("mass", "kg")]
 MASS_SIGMA_COLUMN: Column = ("sigma", "kg")
 
+#: Ground-truth flight phase ``phase0/data.csv`` (issue #29): 0 on the ground, 1 airborne.
+PHASE0_COLUMNS: List[Column] = [("timestamp", "ns"), ("phase", "")]
+PHASE_ON_GROUND, PHASE_AIRBORNE = 0, 1
+
 #: EuRoC ``state_groundtruth_estimate0/data.csv``: 17 columns; only the first 8 are used.
 EUROC_GT_MIN_COLUMNS = 8
 

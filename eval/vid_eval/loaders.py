@@ -133,6 +133,28 @@ def load_mass(path: PathLike) -> ScalarSeries:
     return ScalarSeries(tab.t_ns, v[:, 0].copy(), sigma, tab.path)
 
 
+def load_phases(path: PathLike) -> ScalarSeries:
+    """Ground-truth ``phase0/data.csv`` (``#timestamp [ns],phase``): 0 on the ground,
+    1 airborne, at strictly increasing times; any other value names file, line and column."""
+    names = [n for n, _ in formats.PHASE0_COLUMNS]
+    tab = read_table(path, {len(names)}, expected_names=names, what="phase0 CSV")
+    v = tab.values[:, 0]
+    bad = np.flatnonzero((v != formats.PHASE_ON_GROUND) & (v != formats.PHASE_AIRBORNE))
+    if bad.size:
+        raise InputFormatError(tab.path, f"phase0 CSV: column 2 'phase': expected "
+                                         f"{formats.PHASE_ON_GROUND} (on the ground) or "
+                                         f"{formats.PHASE_AIRBORNE} (airborne), got {v[bad[0]]:g}",
+                               int(tab.lines[bad[0]]))
+    return ScalarSeries(tab.t_ns, v.astype(np.int64), None, tab.path)
+
+
+def find_phases(gt_path: PathLike) -> Optional[Path]:
+    """``mav0/phase0/data.csv`` of the dataset whose ground-truth file (``mav0/<stream>/data.csv``)
+    is ``gt_path``, or None."""
+    cand = Path(gt_path).resolve().parent.parent / "phase0" / "data.csv"
+    return cand if cand.is_file() else None
+
+
 def load_vehicle_mass(path: PathLike) -> float:
     """``mass_kg`` of a ``vehicle.yaml`` (docs/formats.md §1)."""
     spath = os.fspath(path)

@@ -14,6 +14,7 @@ from typing import Iterable, List, Optional, Sequence
 import numpy as np
 
 from .errors import InputFormatError, PathLike
+from .formats import header_names
 
 
 @dataclass
@@ -27,14 +28,14 @@ class Table:
     lines: np.ndarray  # (N,) 1-based line numbers of the rows in the file
 
 
-def _parse_time(token: str, unit_seconds: bool, path: str, line: int) -> int:
+def _parse_time(token: str, unit_seconds: bool, path: str, line: int, column: str) -> int:
     """Parse a timestamp to int ns exactly (Decimal avoids float rounding of seconds)."""
     try:
         value = Decimal(token)
     except InvalidOperation:
-        raise InputFormatError(path, f"timestamp '{token}' is not a number", line) from None
+        raise InputFormatError(path, f"{column}: timestamp '{token}' is not a number", line) from None
     if not value.is_finite():
-        raise InputFormatError(path, f"timestamp '{token}' is not finite", line)
+        raise InputFormatError(path, f"{column}: timestamp '{token}' is not finite", line)
     if unit_seconds:
         value = value * Decimal(1_000_000_000)
     return int(value.to_integral_value())
@@ -95,14 +96,18 @@ def read_table(
                     spath, f"{what}: {len(tokens)} columns, earlier rows have {len(rows[0]) + 1}",
                     lineno,
                 )
-            t = _parse_time(tokens[0], time_in_seconds, spath, lineno)
+            column = lambda i: _column(i, header, len(tokens))  # noqa: E731
+            t = _parse_time(tokens[0], time_in_seconds, spath, lineno, column(0))
             try:
                 vals = [float(x) for x in tokens[1:]]
             except ValueError:
-                bad = next(x for x in tokens[1:] if not _is_float(x))
-                raise InputFormatError(spath, f"{what}: value '{bad}' is not a number", lineno) from None
+                col = next(i for i, x in enumerate(tokens) if i and not _is_float(x))
+                raise InputFormatError(spath, f"{what}: {column(col)}: value '{tokens[col]}' "
+                                              f"is not a number", lineno) from None
             if not all(np.isfinite(vals)):
-                raise InputFormatError(spath, f"{what}: non-finite value", lineno)
+                col = 1 + int(np.flatnonzero(~np.isfinite(vals))[0])
+                raise InputFormatError(spath, f"{what}: {column(col)}: non-finite value "
+                                              f"'{tokens[col]}'", lineno)
             if times and t <= times[-1]:
                 kind = "repeated" if t == times[-1] else "decreasing"
                 raise InputFormatError(
@@ -125,8 +130,6 @@ def read_table(
 
 
 def _check_names(path: str, header: str, lineno: int, expected: Sequence[str], what: str) -> None:
-    from .formats import header_names
-
     names = header_names(header)
     if len(names) != len(expected):
         raise InputFormatError(
@@ -137,6 +140,14 @@ def _check_names(path: str, header: str, lineno: int, expected: Sequence[str], w
             raise InputFormatError(
                 path, f"{what}: header column {i + 1} is '{got}', expected '{want}'", lineno
             )
+
+
+def _column(index: int, header: Optional[str], ncols: int) -> str:
+    """``column N 'name'`` (1-based), worded as the C++ reader does (docs/formats.md §1); the
+    name only when the header has one field per column (else it is a comment, not names)."""
+    names = header_names(header) if header is not None else []
+    name = f" '{names[index]}'" if len(names) == ncols and names[index] else ""
+    return f"column {index + 1}{name}"
 
 
 def _is_float(token: str) -> bool:

@@ -72,7 +72,7 @@ def test_missing_file(tmp_path, good_gt):
 def test_not_a_number(tmp_path, good_gt):
     bad = tmp_path / "est.txt"
     bad.write_text("100.0 0 0 0 0 0 0 1\n100.05 0 abc 0 0 0 0 1\n")
-    _one_line_error(_vid("traj", bad, good_gt), f"{bad}:2:", "'abc'")
+    _one_line_error(_vid("traj", bad, good_gt), f"{bad}:2:", "column 3: value 'abc'")
 
 
 def test_force_csv_wrong_header_and_columns(tmp_path):

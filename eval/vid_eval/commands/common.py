@@ -3,11 +3,14 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 from pathlib import Path
-from typing import Any, Dict
+from typing import Any, Dict, Optional
 
+from ..loaders import find_phases, load_phases
 from ..pairing import PairingOptions
+from ..phases import DEFAULT_WINDOW_S, PhaseSegmentation, segment_phases
 
 
 def add_pairing_args(p: argparse.ArgumentParser) -> None:
@@ -31,6 +34,35 @@ def add_output_args(p: argparse.ArgumentParser) -> None:
     g.add_argument("--plot", metavar="DIR", help="write PNG plots into DIR")
     g.add_argument("--method", help="method name stored in the JSON (for `vid-eval report`)")
     g.add_argument("--sequence", help="sequence name stored in the JSON (for `vid-eval report`)")
+
+
+def _positive_seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number of seconds") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise argparse.ArgumentTypeError(f"must be positive and finite, got {text}")
+    return value
+
+
+def add_phase_args(p: argparse.ArgumentParser) -> None:
+    """--phases, --phase-window (issue #29: errors per flight phase)."""
+    g = p.add_argument_group("flight phases (reported when phase0 is found)")
+    g.add_argument("--phases", metavar="FILE", default=None,
+                   help="phase0 CSV '#timestamp [ns],phase' (0 on the ground, 1 airborne); "
+                        "default: mav0/phase0/data.csv next to GT when it exists")
+    g.add_argument("--phase-window", type=_positive_seconds, default=DEFAULT_WINDOW_S, metavar="S",
+                   help="length of the transition window centred on each lift-off and "
+                        f"touchdown [s] (default {DEFAULT_WINDOW_S:g})")
+
+
+def phases_from_args(args: argparse.Namespace, gt_path: str) -> Optional[PhaseSegmentation]:
+    """The flight phases of ``--phases``, else of phase0 next to ``gt_path``; None without."""
+    path = args.phases or find_phases(gt_path)
+    if path is None:
+        return None
+    return segment_phases(load_phases(abspath(path)), args.phase_window)
 
 
 def seconds_to_ns(s: float) -> int:

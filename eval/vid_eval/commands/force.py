@@ -11,7 +11,7 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from ..errors import ConfigurationError, InputFormatError
+from ..errors import AssociationError, ConfigurationError, InputFormatError
 from ..alignment import ALIGN_MODES
 from ..force_frames import Mass, mass_at, newton_to_accel, rotate_series
 from ..force_metrics import force_errors
@@ -21,8 +21,11 @@ from ..gauge import (WorldGauge, find_estimate_trajectory, find_gt_trajectory, r
 from ..loaders import (find_mass_source, load_force_estimate, load_force_gt, load_mass,
                        load_state, load_trajectory, load_vehicle_mass)
 from ..pairing import pair_vectors
+from ..phase_metrics import force_phase_lines, force_phase_report
+from ..phases import PhaseSegmentation
 from ..series import Trajectory, VectorSeries
-from .common import abspath, add_output_args, add_pairing_args, finish, pairing_from_args
+from .common import (abspath, add_output_args, add_pairing_args, add_phase_args, finish,
+                     pairing_from_args, phases_from_args)
 
 
 def add_parser(sub) -> None:
@@ -60,6 +63,7 @@ def add_parser(sub) -> None:
                    help="ground-truth poses (EuRoC CSV / TUM) for the alignment and to rotate GT "
                         "between frames (default: mav0/state_groundtruth_estimate0 next to GT)")
     add_pairing_args(p)
+    add_phase_args(p)
     add_output_args(p)
     p.set_defaults(run=run)
 
@@ -134,6 +138,19 @@ def _world_gauge(args, est_fmt: str) -> WorldGauge:
                                   pairing_from_args(args, min_pairs=3))
 
 
+def _paired(args, frame: str, loaded) -> Tuple[VectorSeries, VectorSeries, Optional[WorldGauge]]:
+    """Estimate and truth in ``frame`` (the world one after the gauge), paired; the gauge."""
+    body, world, orient_est, est_fmt, gt = loaded
+    gauge = _world_gauge(args, est_fmt) if frame == "world" else None
+    est = _estimate_in(frame, body, world, orient_est)
+    if gauge is not None:
+        est = rotate_world(est, gauge)
+    if gt.frame != frame:
+        gt = rotate_series(gt, _gt_orientation(args, orient_est, frame), frame)
+    pe, pg = pair_vectors(est, gt, pairing_from_args(args))
+    return pe, pg, gauge
+
+
 def run(args: argparse.Namespace) -> int:
     """Compute, print, write JSON/plot."""
     body, world, orient_est, est_fmt = _load_estimate(args)
@@ -147,14 +164,10 @@ def run(args: argparse.Namespace) -> int:
                 f"{args.gt}: ground truth is in N but no mass found: give --mass KG "
                 f"(or mav0/mass0/data.csv or vehicle.yaml next to the dataset)")
         gt = newton_to_accel(gt, mass)
-    gauge = _world_gauge(args, est_fmt) if args.frame == "world" else None
-    est = _estimate_in(args.frame, body, world, orient_est)
-    if gauge is not None:
-        est = rotate_world(est, gauge)
-    if gt.frame != args.frame:
-        gt = rotate_series(gt, _gt_orientation(args, orient_est), args.frame)
+    phases = phases_from_args(args, args.gt)
+    loaded = (body, world, orient_est, est_fmt, gt)
+    pe, pg, gauge = _paired(args, args.frame, loaded)
     popt = pairing_from_args(args)
-    pe, pg = pair_vectors(est, gt, popt)
     m = None if mass is None else mass_at(mass, pg.t_ns)
     res = force_errors(pe, pg, m)
     out = {"command": "force", "est": abspath(args.est), "gt": abspath(args.gt),
@@ -172,17 +185,34 @@ def run(args: argparse.Namespace) -> int:
         line += f"  norm {out['force']['rmse_N']['norm']:.4f} N"
     print(line)
     print(resp.summary_line())
+    if phases is not None:
+        out["phases"] = _phase_report(args, phases, loaded, (pe, pg, m), mass, resp)
+        print("\n".join(force_phase_lines(out["phases"])))
     if args.plot:
         from ..plots.force import plot_force
         from ..plots.force_response import plot_force_response
 
-        plot_force(res, args.plot, f"force_{args.frame}.png")
+        plot_force(res, args.plot, f"force_{args.frame}.png", phases=phases)
         plot_force_response(resp, args.plot, f"force_response_{args.frame}.png")
     finish(args, out)
     return 0
 
 
-def _gt_orientation(args, orient_est: Optional[Trajectory]) -> Trajectory:
+def _phase_report(args, phases: PhaseSegmentation, loaded, main, mass, resp) -> dict:
+    """Errors per flight phase in the command's frame and, when its inputs are there, in the
+    other one (world: the gauge's trajectories; body: ground-truth orientations)."""
+    frames = {args.frame: main}
+    other = "body" if args.frame == "world" else "world"
+    skipped = {}
+    try:
+        oe, og, _ = _paired(args, other, loaded)
+        frames[other] = (oe, og, None if mass is None else mass_at(mass, og.t_ns))
+    except (ConfigurationError, AssociationError) as exc:  # that frame's inputs are missing
+        skipped[other] = str(exc)
+    return force_phase_report(phases, frames, resp, skipped)
+
+
+def _gt_orientation(args, orient_est: Optional[Trajectory], frame: str) -> Trajectory:
     """Orientations ``q_WI`` to rotate GT between frames: the ground-truth poses; the
     estimate's own orientations only with ``--align none`` (they are in the estimator's world,
     which is the ground truth's only when the two are known to share one)."""
@@ -193,5 +223,5 @@ def _gt_orientation(args, orient_est: Optional[Trajectory]) -> Trajectory:
         return orient_est
     raise ConfigurationError(
         f"ground truth is in the {args.gt_frame} frame: give --gt-state (ground-truth poses) to "
-        f"rotate it into the {args.frame} frame (or --state with --align none when the "
+        f"rotate it into the {frame} frame (or --state with --align none when the "
         f"estimate shares the ground truth's world frame)")

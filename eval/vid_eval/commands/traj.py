@@ -6,8 +6,10 @@ import argparse
 from ..alignment import ALIGN_MODES
 from ..ate import compute_ate
 from ..loaders import TRAJ_FORMATS, load_trajectory
+from ..phase_metrics import pose_phase_lines, pose_phase_report
 from ..rpe import DEFAULT_PERCENTAGES, compute_rpe, default_distances, rpe_as_dict
-from .common import abspath, add_output_args, add_pairing_args, finish, pairing_from_args
+from .common import (abspath, add_output_args, add_pairing_args, add_phase_args, finish,
+                     pairing_from_args, phases_from_args)
 
 
 def _distances(text: str):
@@ -39,6 +41,7 @@ def add_parser(sub) -> None:
     p.add_argument("--rpe-distances", type=_distances, default=None, metavar="D1,D2,...",
                    help="RPE sub-trajectory lengths [m] (default 10,20,30,40,50%% of the GT length)")
     add_pairing_args(p)
+    add_phase_args(p)
     add_output_args(p)
     p.set_defaults(run=run)
 
@@ -47,6 +50,7 @@ def run(args: argparse.Namespace) -> int:
     """Compute, print, write JSON/plots."""
     est = load_trajectory(args.est, args.est_format)
     gt = load_trajectory(args.gt, args.gt_format)
+    phases = phases_from_args(args, args.gt)
     res = compute_ate(est, gt, args.align, args.align_frames, pairing_from_args(args, min_pairs=3))
     pct = None
     if args.rpe_distances is None:
@@ -74,11 +78,14 @@ def run(args: argparse.Namespace) -> int:
                   f"{s.as_dict()['rot_deg']['rmse']:.3f} deg  [{len(s.trans_err)} pairs]")
         else:
             print(f"RPE {s.distance:8.3f} m: no sub-trajectory of that length")
+    if phases is not None:  # errors of the whole-run alignment, split by phase
+        out["phases"] = pose_phase_report(phases, res.gt.t_ns, res.pos_err, res.rot_err_deg)
+        print("\n".join(pose_phase_lines(out["phases"])))
     if args.plot:
         from ..plots.trajectory import plot_errors, plot_rpe, plot_views
 
         plot_views(res, args.plot, full_gt=gt)
-        plot_errors(res, args.plot)
+        plot_errors(res, args.plot, phases=phases)
         plot_rpe(segments, args.plot)
     finish(args, out)
     return 0

@@ -3,15 +3,20 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Optional
 
 import numpy as np
 
 from ..force_metrics import ForceResult
+from ..phases import PhaseSegmentation
+from .phases import shade_phases
 from .style import ERR_COLOR, EST_COLOR, GT_COLOR, new_figure, save
 
 
-def plot_force(res: ForceResult, out_dir: os.PathLike, name: str = "force.png") -> Path:
-    """Three axis panels (estimate, ground truth, +-3 sigma) and one error-norm panel."""
+def plot_force(res: ForceResult, out_dir: os.PathLike, name: str = "force.png",
+               phases: Optional[PhaseSegmentation] = None) -> Path:
+    """Three axis panels (estimate, ground truth, +-3 sigma) and one error-norm panel; with
+    ``phases``, landed intervals shaded and lift-off / touchdown marked on every panel."""
     fig, axes = new_figure(4, 1, width=11, height=10, sharex=True)
     t0 = min(res.est.t_ns[0], res.gt.t_ns[0])
     te = (res.est.t_ns - t0) * 1e-9
@@ -32,8 +37,10 @@ def plot_force(res: ForceResult, out_dir: os.PathLike, name: str = "force.png") 
                     label=f"RMSE {res.rmse_norm:.3f} m/s²")
     axes[3].set_ylim(bottom=0.0, top=max(1e-6, 1.15 * float(np.max(np.linalg.norm(res.err, axis=1)))))
     axes[3].set_ylabel("‖error‖ [m/s²]")
-    for ax in axes:
+    for k, ax in enumerate(axes):
         ax.ticklabel_format(axis="y", useOffset=False, style="plain")
+        if phases is not None:
+            shade_phases(ax, phases, t0, label=(k == 3))
     axes[3].set_xlabel("time [s]")
     axes[3].legend(loc="upper right", fontsize=8)
     fig.suptitle(f"external force (mass-normalized, {frame} frame)")

@@ -8,7 +8,9 @@ from typing import List, Optional, Sequence
 import numpy as np
 
 from ..ate import AteResult
+from ..phases import PhaseSegmentation
 from ..rpe import RpeSegment
+from .phases import shade_phases
 from .style import ERR_COLOR, EST_COLOR, GT_COLOR, new_figure, save
 
 
@@ -30,8 +32,10 @@ def plot_views(res: AteResult, out_dir: os.PathLike, full_gt=None, title: str = 
     return save(fig, out_dir, "traj_views.png")
 
 
-def plot_errors(res: AteResult, out_dir: os.PathLike) -> Path:
-    """Position error [m] (and rotation error [deg]) over time."""
+def plot_errors(res: AteResult, out_dir: os.PathLike,
+                phases: Optional[PhaseSegmentation] = None) -> Path:
+    """Position error [m] (and rotation error [deg]) over time; with ``phases``, landed
+    intervals shaded and lift-off / touchdown marked."""
     rows = 2 if res.rot_err_deg is not None else 1
     fig, axes = new_figure(rows, 1, width=10, height=3.2 * rows, sharex=True, squeeze=False)
     t = res.est_aligned.t_s
@@ -48,9 +52,12 @@ def plot_errors(res: AteResult, out_dir: os.PathLike) -> Path:
                    label=f"RMSE {res.rot_rmse_deg:.2f} deg")
         ax.set_ylabel("rotation error [deg]")
         ax.legend(loc="upper left", fontsize=8)
-    for a in axes[:, 0]:
+    for k, a in enumerate(axes[:, 0]):
         a.set_ylim(bottom=0.0)
         a.ticklabel_format(axis="y", useOffset=False, style="plain")
+        if phases is not None:  # the x axis counts from the first pair (ground-truth clock)
+            shade_phases(a, phases, int(res.gt.t_ns[0]), label=True)
+            a.legend(loc="upper left", fontsize=8)
     axes[-1, 0].set_xlabel("time since first pose [s]")
     return save(fig, out_dir, "traj_errors.png")
 
