@@ -8,7 +8,8 @@ come from vid_eval (the same code as `vid-eval traj` / `vid-eval force`):
 * ATE [m] (posyaw), world-frame force RMSE [m/s^2] (gauge-free: rotated by the alignment),
 * max attitude error after --skip seconds [deg] (after the alignment),
 * force lag [ms] (cross-correlation) and step settling (median / max [s], # not settled),
-* accelerometer samples rejected (fraction) and force jumps detected (vid_run's summary).
+* accelerometer samples rejected and down-weighted (fractions) and force jumps detected (vid_run's
+  summary).
 
 A configuration is NAME=DIR[:KEY=VALUE,...]: an estimator preset folder (as vid_run --config)
 plus estimator.yaml keys that override it (written to a temporary copy). Example, the
@@ -99,6 +100,7 @@ def _score(seq: pathlib.Path, run: pathlib.Path, skip_s: float) -> dict:
     acc = s.get("accel", {})
     out["accel_rejected_fraction"] = acc.get("rejected_fraction",
                                              s["counts"]["accel_rejected"] / max(1, s["counts"]["imu_samples"]))
+    out["accel_downweighted_fraction"] = acc.get("downweighted_fraction", 0.0)
     out["force_jumps"] = acc.get("force_jumps", 0)
     est_traj = load_trajectory(run / "trajectory_tum.txt")
     gt_traj = load_trajectory(mav0 / "state_groundtruth_estimate0" / "data.csv")
@@ -151,7 +153,8 @@ def _job(args, build, work, preset, seed, noise_free, configs):
 COLUMNS = [("ate_m", "ATE [m]", "{:.4f}", max), ("force_rmse_world", "force RMSE [m/s²]", "{:.3f}", max),
            ("att_err_max_deg", "max att. err [°]", "{:.2f}", max), ("lag_ms", "lag [ms]", "{:.0f}", max),
            ("settling_max_s", "settling max [s]", "{:.2f}", max),
-           ("accel_rejected_fraction", "accel rejected", "{:.2%}", max), ("force_jumps", "jumps", "{:.0f}", max)]
+           ("accel_rejected_fraction", "accel rejected", "{:.2%}", max),
+           ("accel_downweighted_fraction", "accel down-weighted", "{:.2%}", max), ("force_jumps", "jumps", "{:.0f}", max)]
 
 
 def table(rows: list[dict], configs: list[str]) -> str:

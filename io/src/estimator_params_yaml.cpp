@@ -41,6 +41,9 @@ const DoubleField kDoubles[] = {
     VID_FIELD(accel_chi2_multiplier),
     VID_FIELD(force_jump_threshold),
     VID_FIELD(force_jump_split_sigma),
+    VID_FIELD(landed_weight_fraction),
+    VID_FIELD(airborne_weight_fraction),
+    VID_FIELD(flight_phase_hold_s),
     VID_FIELD(pixel_noise_px),
     VID_FIELD(chi2_multiplier),
     VID_FIELD(triangulation_max_condition),
@@ -72,6 +75,7 @@ const BoolField kBools[] = {
     VID_FIELD(use_fej),
     VID_FIELD(accel_update),
     VID_FIELD(accel_chi2_gating),
+    VID_FIELD(accel_gate_downweight),
     VID_FIELD(force_jump_detection),
     VID_FIELD(visual_update),
     VID_FIELD(use_stereo),
@@ -113,6 +117,9 @@ EstimatorParams from_map(const YamlMap& y) {
   if (!(p.imu_rate_hz > 0.0)) y.fail("imu_rate_hz", "must be positive");
   if (p.force_jump_window < 2) y.fail("force_jump_window", "must be at least 2");
   if (!(p.force_jump_threshold > 0.0)) y.fail("force_jump_threshold", "must be positive");
+  if (!(p.airborne_weight_fraction >= 0.0 && p.airborne_weight_fraction < p.landed_weight_fraction))
+    y.fail("airborne_weight_fraction", "must be >= 0 and below landed_weight_fraction");
+  if (!(p.flight_phase_hold_s >= 0.0)) y.fail("flight_phase_hold_s", "must be >= 0");
   y.check_unknown();
   return p;
 }

@@ -273,6 +273,7 @@ void System::close_outputs() {
 
 FilterStatus System::status() const { return pipeline_->status(); }
 const std::string& System::status_message() const { return pipeline_->status_message(); }
+FlightPhase System::flight_phase() const { return pipeline_->flight_phase(); }
 int System::tracked_cameras() const { return frontend_ ? frontend_->cameras() : 0; }
 
 }  // namespace vid::system

@@ -11,6 +11,9 @@ void add_counters(PipelineCounters& a, const PipelineCounters& b) {
   a.accel_updates += b.accel_updates;
   a.accel_rejected += b.accel_rejected;
   a.accel_used_in_jumps += b.accel_used_in_jumps;
+  a.accel_downweighted += b.accel_downweighted;
+  a.accel_downweighted_spans.insert(a.accel_downweighted_spans.end(), b.accel_downweighted_spans.begin(),
+                                    b.accel_downweighted_spans.end());
   a.force_jumps += b.force_jumps;
   a.accel_rejected_spans.insert(a.accel_rejected_spans.end(), b.accel_rejected_spans.begin(),
                                 b.accel_rejected_spans.end());
@@ -26,6 +29,28 @@ void add_counters(PipelineCounters& a, const PipelineCounters& b) {
   a.features_too_short += b.features_too_short;
   a.zero_velocity_updates += b.zero_velocity_updates;
   a.observations_without_norm += b.observations_without_norm;
+  a.landed_s += b.landed_s;
+  a.airborne_s += b.airborne_s;
+  a.flight_phase_events.insert(a.flight_phase_events.end(), b.flight_phase_events.begin(),
+                               b.flight_phase_events.end());
+}
+
+nlohmann::json flight_phase_report(const PipelineCounters& c, FlightPhase now) {
+  nlohmann::json j;
+  j["final"] = to_string(now);
+  j["landed_s"] = c.landed_s;
+  j["airborne_s"] = c.airborne_s;
+  long lift_offs = 0, touchdowns = 0;
+  nlohmann::json events = nlohmann::json::array();
+  for (const FlightPhaseRecord& r : c.flight_phase_events) {
+    const bool lift_off = r.to == FlightPhase::kAirborne;
+    (lift_off ? lift_offs : touchdowns) += 1;
+    if (events.size() < 200) events.push_back({{"t_ns", r.t_ns}, {"event", lift_off ? "lift_off" : "touchdown"}});
+  }
+  j["lift_offs"] = lift_offs;
+  j["touchdowns"] = touchdowns;
+  j["events"] = events;
+  return j;
 }
 
 nlohmann::json accel_report(const PipelineCounters& c) {
@@ -36,15 +61,22 @@ nlohmann::json accel_report(const PipelineCounters& c) {
   j["rejected_fraction"] = seen > 0 ? static_cast<double>(c.accel_rejected) / static_cast<double>(seen) : 0.0;
   j["used_in_jumps"] = c.accel_used_in_jumps;
   j["force_jumps"] = c.force_jumps;
-  double span_s = 0.0;
-  nlohmann::json spans = nlohmann::json::array();
-  for (const TimeSpan& s : c.accel_rejected_spans) {
-    span_s += static_cast<double>(s.last_ns - s.first_ns) * 1e-9;
-    if (spans.size() < 200) spans.push_back({s.first_ns, s.last_ns});
-  }
-  j["rejected_spans_ns"] = spans;
-  j["rejected_span_count"] = c.accel_rejected_spans.size();
-  j["rejected_span_total_s"] = span_s;
+  const auto add_spans = [&j](const std::string& key, const std::vector<TimeSpan>& spans) {
+    double total_s = 0.0;
+    nlohmann::json list = nlohmann::json::array();
+    for (const TimeSpan& s : spans) {
+      total_s += static_cast<double>(s.last_ns - s.first_ns) * 1e-9;
+      if (list.size() < 200) list.push_back({s.first_ns, s.last_ns});
+    }
+    j[key + "_spans_ns"] = list;
+    j[key + "_span_count"] = spans.size();
+    j[key + "_span_total_s"] = total_s;
+  };
+  add_spans("rejected", c.accel_rejected_spans);
+  j["downweighted"] = c.accel_downweighted;
+  j["downweighted_fraction"] =
+      seen > 0 ? static_cast<double>(c.accel_downweighted) / static_cast<double>(seen) : 0.0;
+  add_spans("downweighted", c.accel_downweighted_spans);
   nlohmann::json jumps = nlohmann::json::array();
   for (const ForceJumpRecord& r : c.force_jump_events) {
     if (jumps.size() >= 200) break;
@@ -79,6 +111,7 @@ nlohmann::json System::summary() const {
                  {"imu_samples", c.imu_samples},
                  {"accel_updates", c.accel_updates},
                  {"accel_rejected", c.accel_rejected},
+                 {"accel_downweighted", c.accel_downweighted},
                  {"accel_used_in_jumps", c.accel_used_in_jumps},
                  {"force_jumps", c.force_jumps},
                  {"rotor_gap_samples", c.rotor_gap_samples},
@@ -92,6 +125,7 @@ nlohmann::json System::summary() const {
                  {"zero_velocity_updates", c.zero_velocity_updates}};
   if (restarts_ > 0) s["counts"]["estimator_restarts"] = restarts_;
   s["accel"] = accel_report(c);
+  if (dynamics()) s["flight_phase"] = flight_phase_report(c, pipeline_->flight_phase());
   s["timing"] = stage_times_.to_json();  // frontend + estimator stages; excludes image decoding
   s["timing"]["image_decoding"] = stage_stats(decode_ms_);
   s["peak_memory_mib"] = peak_memory_mib();

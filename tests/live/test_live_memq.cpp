@@ -146,6 +146,7 @@ TEST(LiveMemq, PublishesTheSameEstimatesAsASystemFedDirectly) {
   EXPECT_EQ(static_cast<int>(got.states.back().status), static_cast<int>(state_t::STATUS_TRACKING));
   ASSERT_FALSE(got.status.empty());
   EXPECT_EQ(got.status.back().status_text, "tracking");
+  EXPECT_EQ(got.status.back().flight_phase, "unknown");  // imu mode: no force, no phase
   EXPECT_EQ(s["counts"]["imu_samples"].get<long>(), static_cast<long>(script.imu.size()));
   EXPECT_EQ(s["counts"]["camera_frames"].get<long>(), static_cast<long>(script.frames.size()));
   EXPECT_EQ(s["faults"]["frames_dropped_overload"].get<long>(), 0);

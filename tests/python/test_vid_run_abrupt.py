@@ -23,12 +23,13 @@ ABRUPT = ["rope_snap_short", "impacts_short", "force_steps_short"]
 
 @pytest.fixture(scope="module")
 def configs(tmp_path_factory):
-    """config/sim as it is, and a copy with the force-jump detection off."""
+    """config/sim as it is, and a copy as the estimator was before issue 17: the force-jump
+    detection off and a gate that rejects (instead of down-weighting) samples past it."""
     base = tmp_path_factory.mktemp("cfg")
     off = base / "jump_off"
     shutil.copytree(REPO / "config" / "sim", off)
     with open(off / "estimator.yaml", "a") as fh:
-        fh.write("\nforce_jump_detection: false\n")
+        fh.write("\nforce_jump_detection: false\naccel_gate_downweight: false\n")
     return {"on": REPO / "config" / "sim", "off": off}
 
 
@@ -75,7 +76,8 @@ def test_abrupt_forces_are_followed(configs, tmp_path_factory, preset):
     # And against the estimator without the detection: every figure better.
     assert s["force_rmse_world_mps2"] < 0.85 * off["summary"]["force_rmse_world_mps2"]
     assert s["ate_posyaw_m"] < off["summary"]["ate_posyaw_m"]
-    assert s["accel"]["rejected"] < off["summary"]["accel"]["rejected"]
+    assert s["accel"]["rejected"] == 0, "past the gate is down-weighted, never dropped"
+    assert s["accel"]["downweighted"] < off["summary"]["accel"]["rejected"]
 
 
 @pytest.mark.parametrize("preset", ["rope_snap_short", "impacts_short"])
@@ -112,8 +114,10 @@ def test_noise_free_copies_reject_almost_nothing(configs, tmp_path_factory, pres
     s = run_preset(configs, tmp_path_factory, preset, noise_free=True)["summary"]
     acc = s["accel"]
     assert acc["samples"] > 0.9 * 400 * 20
-    assert acc["rejected_fraction"] <= 0.001, f"{acc['rejected']} of {acc['samples']} rejected"
+    past_gate = acc["rejected"] + acc["downweighted"]
+    assert past_gate <= 0.001 * acc["samples"], f"{past_gate} of {acc['samples']} rejected or down-weighted"
     assert len(acc["rejected_spans_ns"]) == min(acc["rejected_span_count"], 200)
+    assert len(acc["downweighted_spans_ns"]) == min(acc["downweighted_span_count"], 200)
 
 
 @pytest.mark.parametrize("preset", ["vid17_like_short", "wind_gusts"])

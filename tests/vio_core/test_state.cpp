@@ -169,6 +169,29 @@ void check_accel_update(ForceFrame frame, bool rate) {
   // chi2 gating: an absurd reading is rejected
   const UpdateResult bad = accel_update(s, a_m + Vector3d(100, 0, 0), Tm, 0.04, 11.345);
   EXPECT_FALSE(bad.applied);
+  // ... or, down-weighted, applied as a dense update whose innovation covariance is scaled by
+  // k = chi2 / threshold: R_eff = k (H P H^T + R) - H P H^T, so its chi2 sits at the gate.
+  const Vector3d a_bad = a_m + Vector3d(100, 0, 0);
+  const AccelJacobian J1 = accel_jacobian(s.imu(), s.imu_fej().T_WI.q, frame);  // at the updated F
+  H.block<3, 3>(0, imu_idx::kTheta) = J1.H_theta;
+  H.block<3, 3>(0, imu_idx::kF) = J1.H_F;
+  const VectorXd r_bad = a_bad - predict_accel(s.imu(), Tm, frame);
+  const MatrixXd HPHt = H * s.P() * H.transpose();
+  const MatrixXd S = HPHt + 0.04 * MatrixXd::Identity(3, 3);
+  const double k = r_bad.dot(S.ldlt().solve(r_bad)) / 11.345;
+  ASSERT_GT(k, 1.0);
+  MatrixXd P_down = s.P();
+  VectorXd dx_down;
+  dense_update(P_down, H, r_bad, k * S - HPHt, &dx_down);
+  const ImuState x1 = s.imu();
+  const UpdateResult down = accel_update(s, a_bad, Tm, 0.04, 11.345, nullptr, true);
+  EXPECT_TRUE(down.applied);
+  EXPECT_TRUE(down.downweighted);
+  EXPECT_NEAR(down.chi2, k * 11.345, 1e-9 * k * 11.345);
+  EXPECT_LT((s.P() - P_down).norm(), 1e-10 * P_down.norm());
+  EXPECT_LT((s.imu().F_ext - x1.F_ext - dx_down.segment<3>(imu_idx::kF)).norm(), 1e-10);
+  // a sample inside the gate is not down-weighted
+  EXPECT_FALSE(accel_update(s, a_m, Tm, 0.04, 1e6, nullptr, true).downweighted);
 }
 
 TEST(EkfUpdate, AccelUpdateMatchesDenseUpdate) { check_accel_update(ForceFrame::kBody, false); }

@@ -82,7 +82,7 @@ AccelJacobian accel_jacobian(const ImuState& x, const Eigen::Quaterniond& q_WI_l
 }
 
 UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
-                          double noise_var, double chi2_threshold, AccelInnovation* info) {
+                          double noise_var, double chi2_threshold, AccelInnovation* info, bool downweight) {
   if (!state.with_force()) throw std::logic_error("accel_update needs the F_ext state (dynamics mode)");
   UpdateResult res;
   Eigen::MatrixXd& P = state.P();
@@ -121,7 +121,14 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
     info->dx_imu.setZero();
     info->gated = gated;
   }
-  if (gated) return res;
+  if (gated && !downweight) return res;
+  if (gated) {
+    // Scale the innovation covariance so that this sample's chi2 sits at the threshold.
+    const double k = res.chi2 / chi2_threshold;
+    S *= k;
+    llt.compute(S);
+    res.downweighted = true;
+  }
   // With S = L L^T and W = PHt L^-T: K r = W (L^-1 r), K S K^T = W W^T (rank-3, symmetric).
   thread_local Eigen::MatrixXd W;
   thread_local Eigen::VectorXd dx;

@@ -26,8 +26,6 @@ double ms_since(Clock::time_point t0) {
 constexpr TimeNs kMaxSubstepNs = 10'000'000;  // 10 ms sub-steps over IMU gaps
 constexpr TimeNs kGtInitToleranceNs = 20'000'000;
 
-TimeNs seconds_to_ns(double s) { return static_cast<TimeNs>(std::llround(s * 1e9)); }
-
 }  // namespace
 
 std::string to_string(FilterStatus s) {
@@ -45,7 +43,8 @@ Pipeline::Pipeline(PipelineConfig config)
       initializer_(config_.params),
       thrust_(seconds_to_ns(config_.params.rotor_gap_s)),
       features_(std::make_unique<msckf::FeatureDatabase>()),
-      jumps_(config_.params) {
+      jumps_(config_.params),
+      phase_(config_.params) {
   if (config_.params.mode == PropagationMode::kDynamics && !(config_.vehicle.mass_kg > 0.0)) {
     throw std::invalid_argument("dynamics mode needs vehicle mass_kg > 0");
   }
@@ -86,9 +85,9 @@ void Pipeline::finish() {
   jumps_.clear();
 }
 
-void Pipeline::record_rejected(TimeNs t) {
-  ++counters_.accel_rejected;
-  auto& spans = counters_.accel_rejected_spans;
+namespace {
+// Samples less than 50 ms apart share a span.
+void add_to_spans(std::vector<TimeSpan>& spans, TimeNs t) {
   constexpr TimeNs kJoinNs = 50'000'000;
   if (!spans.empty() && t - spans.back().last_ns <= kJoinNs) {
     spans.back().last_ns = t;
@@ -96,21 +95,40 @@ void Pipeline::record_rejected(TimeNs t) {
     spans.push_back(TimeSpan{t, t});
   }
 }
+}  // namespace
+
+void Pipeline::record_rejected(TimeNs t) {
+  ++counters_.accel_rejected;
+  add_to_spans(counters_.accel_rejected_spans, t);
+}
+
+void Pipeline::record_downweighted(TimeNs t) {
+  ++counters_.accel_downweighted;
+  add_to_spans(counters_.accel_downweighted_spans, t);
+}
 
 void Pipeline::accel_step(const ImuInput& in) {
   const EstimatorParams& p = config_.params;
   const double noise_var = p.accel_noise_density * p.accel_noise_density * p.imu_rate_hz;
   const double thr = p.accel_chi2_gating ? p.accel_chi2_multiplier * chi2_quantile(0.99, 3) : 0.0;
+  const bool down = p.accel_gate_downweight;
   if (!p.force_jump_detection) {
-    if (accel_update(state_, in.accel, in.T_m, noise_var, thr).applied) {
+    const UpdateResult u = accel_update(state_, in.accel, in.T_m, noise_var, thr, nullptr, down);
+    if (u.applied) {
       ++counters_.accel_updates;
+      if (u.downweighted) record_downweighted(in.t);
     } else {
       record_rejected(in.t);
     }
     return;
   }
   AccelInnovation info;
-  if (accel_update(state_, in.accel, in.T_m, noise_var, thr, &info).applied) ++counters_.accel_updates;
+  const UpdateResult u = accel_update(state_, in.accel, in.T_m, noise_var, thr, &info, down);
+  if (u.applied) ++counters_.accel_updates;
+  if (u.downweighted) {
+    record_downweighted(in.t);
+    info.gated = false;  // applied: nothing left for a jump to recover
+  }
   // A gated sample stays in the detector's window: rejected only if no jump uses it.
   if (auto old = jumps_.push(info); old && old->gated) record_rejected(old->t_ns);
   const std::optional<ForceJump> jump = jumps_.test();
@@ -127,6 +145,18 @@ void Pipeline::accel_step(const ImuInput& in) {
   ++counters_.force_jumps;
   if (counters_.force_jump_events.size() < 10000)
     counters_.force_jump_events.push_back(ForceJumpRecord{jump->t_ns, jump->n, jump->delta.norm()});
+}
+
+void Pipeline::update_flight_phase(TimeNs t) {
+  const FlightPhase before = phase_.phase();
+  const FlightPhase now = phase_.update(t, force_in_world(state_.imu(), state_.force_frame()));
+  if (before != FlightPhase::kUnknown) {
+    const double dt = ns_to_s(t - phase_time_);
+    (before == FlightPhase::kLanded ? counters_.landed_s : counters_.airborne_s) += dt;
+  }
+  phase_time_ = t;
+  if (before != FlightPhase::kUnknown && now != before && counters_.flight_phase_events.size() < 10000)
+    counters_.flight_phase_events.push_back(FlightPhaseRecord{t, now});
 }
 
 void Pipeline::drain(bool force) {
@@ -156,6 +186,7 @@ void Pipeline::drain(bool force) {
 void Pipeline::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu) {
   state_.initialize(t_ns, x, P_imu);
   jumps_.clear();
+  phase_.reset();
   last_input_.reset();
   features_ = std::make_unique<msckf::FeatureDatabase>();
   parallax_ = ParallaxWindow();
@@ -235,6 +266,7 @@ void Pipeline::process_imu(const ImuInput& in) {
     accel_step(in);
     pending_timings_.accel_update_ms += ms_since(t0);
   }
+  if (state_.with_force()) update_flight_phase(in.t);
   check_divergence(false);
   if (status_ == FilterStatus::kOk) emit(in.t);
 }
@@ -389,6 +421,7 @@ void Pipeline::emit(TimeNs t) {
   EstimateOutput o;
   o.t_ns = t;
   o.x = state_.imu();
+  o.phase = phase_.phase();
   const int d = state_.imu_dim();
   o.sigma = state_.P().topLeftCorner(d, d).diagonal().cwiseSqrt();
   o.cov_theta = state_.P().block<3, 3>(imu_idx::kTheta, imu_idx::kTheta);

@@ -334,6 +334,7 @@ void LiveEngine::publish_status_locked(TimeNs t) {
   m.status = static_cast<int8_t>(health_);
   m.status_text = lcm_io::to_string(health_);
   m.message = session_->status_message();
+  m.flight_phase = to_string(session_->flight_phase());
   m.reinit_count = reinit_count_;
   for (const auto& [name, value] : counters()) {
     m.counter_names.push_back(name);

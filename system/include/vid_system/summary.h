@@ -46,6 +46,10 @@ void add_counters(PipelineCounters& a, const PipelineCounters& b);
 /// and the force jumps (summary.json "accel"). Spans and jumps list at most 200 entries each.
 nlohmann::json accel_report(const PipelineCounters& c);
 
+/// @brief Landed / airborne (vio_core/flight_phase.h): the phase at the end, time in each, the
+/// lift-offs and touchdowns (summary.json "flight_phase"; at most 200 events listed).
+nlohmann::json flight_phase_report(const PipelineCounters& c, FlightPhase now);
+
 /// @brief Write @p summary to DIR/summary.json (pretty, flushed).
 void write_summary(const std::filesystem::path& out_dir, const nlohmann::json& summary);
 

@@ -91,6 +91,8 @@ class System {
   // --- State and results ----------------------------------------------------------------------
   FilterStatus status() const;
   const std::string& status_message() const;
+  /// @brief Landed / airborne now (vio_core/flight_phase.h; unknown in imu mode).
+  FlightPhase flight_phase() const;
   /// @brief Counters of every estimator of the run (also those replaced by restart()).
   PipelineCounters counters() const;
   /// @brief The parameters (mode and init decided).

@@ -17,6 +17,7 @@ struct UpdateResult {
   bool applied = false;     ///< false if gated out or degenerate
   double chi2 = 0.0;        ///< r^T S^-1 r
   double threshold = 0.0;   ///< gating threshold used (0 = no gating)
+  bool downweighted = false;  ///< past the gate but applied with S scaled by chi2 / threshold
 };
 
 /// @brief Generic EKF update with H of size (m x dim) and noise covariance R (m x m).
@@ -50,7 +51,11 @@ AccelJacobian accel_jacobian(const ImuState& x, const Eigen::Quaterniond& q_WI_l
 /// orientation columns in the world-frame force model), so P H^T is a few n x 3 blocks.
 /// @param info if given: the innovation, its covariance and the measurement in the force
 /// frame, and the IMU-block correction applied (for ForceJumpDetector / apply_force_jump).
+/// @param downweight a sample past the gate is applied with its innovation covariance scaled
+/// by chi2 / threshold (the measurement noise inflated to R + (k - 1) S, Huber-like: its
+/// normalized innovation and so its influence is held at the gate's) instead of dropped.
 UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
-                          double noise_var, double chi2_threshold, AccelInnovation* info = nullptr);
+                          double noise_var, double chi2_threshold, AccelInnovation* info = nullptr,
+                          bool downweight = false);
 
 }  // namespace vid

@@ -27,6 +27,7 @@
 
 #include "vio_core/calibration.h"
 #include "vio_core/estimator_params.h"
+#include "vio_core/flight_phase.h"
 #include "vio_core/force_jump.h"
 #include "vio_core/initializer.h"
 #include "vio_core/measurements.h"
@@ -64,6 +65,7 @@ struct EstimateOutput {
   Eigen::Vector3d F_ext_I, F_ext_W;
   Eigen::Matrix3d cov_F_I, cov_F_W;
   FilterStatus status = FilterStatus::kOk;
+  FlightPhase phase = FlightPhase::kUnknown;  ///< landed / airborne (dynamics mode; flight_phase.h)
 };
 
 /// @brief Stage times of one camera frame [ms] (propagation and accelerometer updates are
@@ -92,6 +94,12 @@ struct ForceJumpRecord {
   double size_mps2 = 0.0; ///< |mean innovation| of the window
 };
 
+/// @brief A change of flight phase (flight_phase.h): lift-off or touchdown.
+struct FlightPhaseRecord {
+  TimeNs t_ns = 0;
+  FlightPhase to = FlightPhase::kUnknown;  ///< kAirborne: lift-off, kLanded: touchdown
+};
+
 /// @brief Event counters.
 struct PipelineCounters {
   long imu_samples = 0;
@@ -100,6 +108,9 @@ struct PipelineCounters {
   /// the detector's window (force_jump_window samples later) or at finish().
   long accel_rejected = 0;
   long accel_used_in_jumps = 0;  ///< held back by the gate, then used in a jump's estimate
+  /// Past the gate and applied down-weighted (accel_gate_downweight; part of accel_updates).
+  long accel_downweighted = 0;
+  std::vector<TimeSpan> accel_downweighted_spans;  ///< down-weighted samples less than 50 ms apart joined
   long force_jumps = 0;
   std::vector<TimeSpan> accel_rejected_spans;  ///< rejected samples less than 50 ms apart joined
   std::vector<ForceJumpRecord> force_jump_events;
@@ -114,6 +125,9 @@ struct PipelineCounters {
   long features_too_short = 0;
   long zero_velocity_updates = 0;  ///< frames whose window showed no parallax (one camera)
   long observations_without_norm = 0;
+  double landed_s = 0.0;    ///< time classified landed (flight_phase.h) [s]
+  double airborne_s = 0.0;  ///< time classified airborne [s]
+  std::vector<FlightPhaseRecord> flight_phase_events;  ///< lift-offs and touchdowns
 };
 
 /// @brief The estimator.
@@ -137,6 +151,8 @@ class Pipeline {
   void initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu);
 
   FilterStatus status() const { return status_; }
+  /// @brief Landed / airborne now (unknown before initialization and in imu mode).
+  FlightPhase flight_phase() const { return phase_.phase(); }
   const std::string& status_message() const { return status_message_; }
   const FilterState& state() const { return state_; }
   const PipelineCounters& counters() const { return counters_; }
@@ -158,6 +174,8 @@ class Pipeline {
   void emit(TimeNs t);
   void accel_step(const ImuInput& in);
   void record_rejected(TimeNs t);
+  void record_downweighted(TimeNs t);
+  void update_flight_phase(TimeNs t);
   ImuInput interpolate(const ImuInput& a, const ImuInput& b, TimeNs t) const;
 
   PipelineConfig config_;
@@ -176,6 +194,8 @@ class Pipeline {
   PipelineCounters counters_;
   FrameTimings pending_timings_;
   ForceJumpDetector jumps_;
+  FlightPhaseClassifier phase_;
+  TimeNs phase_time_ = 0;  ///< time of the last flight-phase update
   ParallaxWindow parallax_;  ///< cam0 frames of the clone window (one camera: zero-velocity test)
   std::function<void(const EstimateOutput&)> on_estimate_;
   std::function<void(const FrameTimings&)> on_frame_;
