@@ -2,6 +2,7 @@
 /// @brief `ground:` (floor contact of the landing gear) and `takeoff_landing:` (start and end
 /// at rest on the floor) sections of a scenario.
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -33,12 +34,24 @@ void parse_contact(const io::YamlMap& g, const Scenario& s, GroundContactConfig*
   if (!(sag < 0.1 * c->gear_length_m))
     g.fail("stiffness_N_per_m", "too soft: the gear sags " + std::to_string(sag * 1e3) +
                                     " mm under the weight (need < 10 % of gear_length_m)");
-  // RK4 at max_step_s must resolve the contact: the stiffest mode (vertical spring on the
-  // mass) below 0.5 rad per step.
-  const double omega = std::sqrt(c->stiffness_N_per_m / s.vehicle.mass_kg);
-  if (!(omega * s.physics_max_step_s < 0.5))
-    g.fail("stiffness_N_per_m", "too stiff for physics.max_step_s: sqrt(k / m) * max_step_s = " +
-                                    std::to_string(omega * s.physics_max_step_s) + " (need < 0.5)");
+  // RK4 at max_step_s must resolve the contact. Per unit of gear stiffness / damping, the
+  // vertical mode goes with 1/m, rolling / pitching / yawing on the feet with (lever arm)^2 / J
+  // (normal forces at +-sx, +-sy; friction gear_length below the CoM). The fastest of them must
+  // stay well inside RK4's stability region (|h lambda| < 2.8): oscillation omega h < 1,
+  // damping rate h c / m_eff < 2.
+  const double sx2 = std::pow(c->gear_half_span_m.x(), 2), sy2 = std::pow(c->gear_half_span_m.y(), 2);
+  const double L2 = std::pow(c->gear_length_m, 2);
+  const Eigen::Matrix3d& J = s.vehicle.inertia;
+  const double per_unit = std::max({1.0 / s.vehicle.mass_kg, (sy2 + L2) / J(0, 0), (sx2 + L2) / J(1, 1), (sx2 + sy2) / J(2, 2)});
+  const double h = s.physics_max_step_s;
+  const double omega_h = std::sqrt(c->stiffness_N_per_m * per_unit) * h;
+  const double damping_h = c->damping_Ns_per_m * per_unit * h;
+  if (!(omega_h < 1.0))
+    g.fail("stiffness_N_per_m", "too stiff for physics.max_step_s: the fastest contact mode turns " +
+                                    std::to_string(omega_h) + " rad per step (need < 1)");
+  if (!(damping_h < 2.0))
+    g.fail("damping_Ns_per_m", "too much damping for physics.max_step_s: h c / m_eff = " + std::to_string(damping_h) +
+                                   " (need < 2)");
   // The contact plane is the scene's floor.
   const SceneConfig scene = parse_scene_config(s.scene_node, s.file);
   const double floor_z = scene.room_center.z() - 0.5 * scene.room_size.z();

@@ -106,6 +106,8 @@ TEST(GroundContact, KeysAndTheirErrors) {
             std::string::npos);
   EXPECT_NE(load_error(edited_preset("stiffness_N_per_m: 30000", "stiffness_N_per_m: 100")).find("too soft"),
             std::string::npos);
+  EXPECT_NE(load_error(edited_preset("damping_Ns_per_m: 600", "damping_Ns_per_m: 3000")).find("too much damping"),
+            std::string::npos);
   EXPECT_NE(load_error(edited_preset("rotor_speed_min: 1000", "rotor_speed_min: 0")).find("rotor_speed_min > 0"),
             std::string::npos);
   EXPECT_NE(load_error(edited_preset("descent_speed_mps: 0.3", "descent_speed_mps: 2")).find("descent_speed_mps"),
