@@ -63,6 +63,7 @@ Simulator::Simulator(const Scenario& scenario) : scenario_(scenario) {
     trajectory_ = make_takeoff_landing_trajectory(std::move(trajectory_), *plan_, tl, tc.max_accel);
     settle_on_ground();
   }
+  reset_ground_contact();
   const double yaw0_deg = yaw_of(initial_state().q_WI) * 180.0 / M_PI;
   heading_deg_ = yaw0_deg;
   if (scenario_.initial_heading_random) {
@@ -93,6 +94,17 @@ void Simulator::settle_on_ground() {
   }
   settled_state_ = x;
   settled_ground_ = *env.ground();
+}
+
+void Simulator::reset_ground_contact() {
+  if (!environment_->ground()) return;
+  if (settled_ground_) {
+    environment_->set_ground(*settled_ground_);
+  } else {
+    GroundContact g = *environment_->ground();
+    g.reset_anchors(initial_state());
+    environment_->set_ground(g);
+  }
 }
 
 dynamics::QuadrotorState Simulator::initial_state() const {
@@ -143,13 +155,7 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
 
   dynamics::QuadrotorState x = initial_state();
   const bool ground = environment_->ground() != nullptr;
-  if (settled_ground_) {
-    environment_->set_ground(*settled_ground_);
-  } else if (ground) {
-    GroundContact g = *environment_->ground();
-    g.reset_anchors(x);
-    environment_->set_ground(g);
-  }
+  reset_ground_contact();
   Eigen::VectorXd n_cmd = x.rotor_speeds;
   const Eigen::Vector3d g_W(0.0, 0.0, -sc.vehicle.gravity);
   TimeNs t = t0;

@@ -84,6 +84,23 @@ TEST(GroundContact, FrictionSticksBelowMuNAndSlidesAbove) {
   }
 }
 
+TEST(GroundContact, BeforeRunTheEnvironmentIsTheOneOfTimeZero) {
+  // The settled friction anchors are in place as soon as the Simulator exists: the contact at
+  // the initial state carries the weight and holds the rope, nothing slides.
+  Scenario sc = load_scenario(preset_path("vid17_like_ground"));
+  sc.duration_s = sc.trajectory.duration_s = 40.0;
+  const Simulator sim(sc);
+  const dynamics::QuadrotorState x = sim.initial_state();
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  const ContactWrench c = sim.environment().ground_contact(x, zero, zero);
+  const Eigen::Vector3d rope = sim.environment().rope_force_W(x);
+  EXPECT_EQ(c.feet_loaded, 4);
+  EXPECT_EQ(c.feet_sliding, 0);
+  EXPECT_LT((c.f_W + rope - Eigen::Vector3d(0, 0, sc.vehicle.mass_kg * sc.vehicle.gravity)).norm(), 1e-6);
+  EXPECT_LT(x.v_WI.norm(), 1e-12);
+  EXPECT_EQ(x.rotor_speeds.cwiseAbs().maxCoeff(), 0.0);
+}
+
 TEST(GroundContact, KeysAndTheirErrors) {
   const Scenario sc = load_scenario(preset_path("takeoff_landing_short"));
   EXPECT_TRUE(sc.environment.ground.enabled);

@@ -74,6 +74,8 @@ class Simulator {
   /// disarmed rotor stops).
   const dynamics::QuadrotorModel& model() const { return *model_; }
   const Trajectory& trajectory() const { return *trajectory_; }
+  /// @brief The environment; with `ground:` its friction anchors are those of t = 0 before
+  /// run() and those of the end after it.
   const SimEnvironment& environment() const { return *environment_; }
   /// @brief State at t = 0: on the reference, with attitude, body rate and rotor speeds
   /// that realise the reference acceleration against the initial external force; with
@@ -95,6 +97,9 @@ class Simulator {
   /// integrated until every transient has died out, so that at t = 0 it is truly still under
   /// whatever side load acts (the friction anchors carry it).
   void settle_on_ground();
+  /// @brief Put the environment's friction anchors where they are at t = 0 (settled, or
+  /// under the feet), so environment() is the t = 0 one before and at the start of run().
+  void reset_ground_contact();
   const dynamics::QuadrotorModel& control_model() const { return armed_model_ ? *armed_model_ : *model_; }
 
   std::unique_ptr<dynamics::QuadrotorModel> model_;
