@@ -65,7 +65,8 @@ struct ContactWrench {
 /// @brief Floor contact of the landing gear; copyable (the stick anchors are its state).
 class GroundContact {
  public:
-  /// @throws std::invalid_argument on non-physical parameters (names the key)
+  /// @brief Anchors start at the origin: call reset_anchors() (or copy a settled contact)
+  /// before evaluating. @throws std::invalid_argument on non-physical parameters (names the key)
   explicit GroundContact(const GroundContactConfig& config);
   /// @brief Contact force, rate and torque at state x. @p a_W (acceleration) and @p dw_I
   /// (angular acceleration) only enter the rate; pass zeros when only the force is needed.
