@@ -99,6 +99,7 @@ ForceBreakdown QuadrotorModel::forces(double t_s, const QuadrotorState& x,
   const Eigen::Vector3d v_I = R_WI.transpose() * x.v_WI;
   f.drag_W = R_WI * (-params_.linear_drag.cwiseProduct(v_I));
   f.env_W = env.force_W(t_s, x);
+  if (env.has_torque()) f.env_torque_I = env.torque_I(t_s, x);
   f.mass_kg = env.mass_kg(t_s);
   const Eigen::Vector3d g_W(0.0, 0.0, -params_.gravity);
   f.accel_W = (R_WI * f.thrust_I + f.external_W()) / f.mass_kg + g_W;
@@ -113,7 +114,11 @@ QuadrotorStateDot QuadrotorModel::derivative(double t_s, const QuadrotorState& x
   d.p_dot = x.v_WI;
   d.v_dot = f.accel_W;
   const Eigen::Matrix3d& J = params_.inertia;
-  d.w_dot = J.ldlt().solve(f.torque_I - x.w_I.cross(J * x.w_I));
+  if (env.has_torque()) {
+    d.w_dot = J.ldlt().solve(f.torque_I + f.env_torque_I - x.w_I.cross(J * x.w_I));
+  } else {
+    d.w_dot = J.ldlt().solve(f.torque_I - x.w_I.cross(J * x.w_I));
+  }
   // q_dot = 0.5 q (x) [0, w]
   const Eigen::Quaterniond qw(0.0, x.w_I.x(), x.w_I.y(), x.w_I.z());
   const Eigen::Quaterniond qd = x.q_WI * qw;

@@ -77,7 +77,7 @@ Eigen::VectorXd GeometricController::update(const ControllerInput& in, const Tra
   Eigen::Vector3d thrust_I, torque_I;
   model_.thrust_and_torque(in.state.rotor_speeds, &thrust_I, &torque_I);
   const Eigen::Vector3d f_meas = m * (in.accel_W - g_W) - R * thrust_I;
-  if (gains_.disturbance_tau_s > 0.0) {
+  if (gains_.disturbance_tau_s > 0.0 && !in.in_contact) {
     if (first_) {
       dist_W_ = f_meas;
     } else {
@@ -89,7 +89,9 @@ Eigen::VectorXd GeometricController::update(const ControllerInput& in, const Tra
   const FlatOutput r = ref.eval(in.t_s);
   const Eigen::Vector3d e_p = in.state.p_WI - r.p;
   const Eigen::Vector3d e_v = in.state.v_WI - r.v;
-  integral_ = (integral_ + e_p * dt).cwiseMax(-gains_.integral_limit).cwiseMin(gains_.integral_limit);
+  if (!in.in_contact) {
+    integral_ = (integral_ + e_p * dt).cwiseMax(-gains_.integral_limit).cwiseMin(gains_.integral_limit);
+  }
   const Eigen::Vector3d acc_cmd =
       r.a - gains_.kp.cwiseProduct(e_p) - gains_.kv.cwiseProduct(e_v) - gains_.ki.cwiseProduct(integral_);
   const Eigen::Vector3d F_d = m * (acc_cmd - g_W) - dist_W_;
@@ -106,7 +108,28 @@ Eigen::VectorXd GeometricController::update(const ControllerInput& in, const Tra
   const Eigen::Vector3d& w = in.state.w_I;
   const Eigen::Vector3d M = J * (-gains_.kr.cwiseProduct(e_R) - gains_.kw.cwiseProduct(e_w)) + w.cross(J * w) -
                             J * (skew(w) * w_d_I - R.transpose() * R_d * dw_d);
-  return allocate(std::max(T, 0.0), M);
+  return allocate(std::min(std::max(T, 0.0), in.max_thrust_N), M);
+}
+
+}  // namespace vid::sim
+
+namespace vid::sim {
+
+Eigen::VectorXd GeometricController::attitude_hold(const dynamics::QuadrotorState& x, double thrust_N,
+                                                   double yaw) const {
+  const Eigen::Matrix3d R = x.q_WI.toRotationMatrix();
+  const Eigen::Matrix3d R_d = desired_rotation(Eigen::Vector3d::UnitZ(), yaw);
+  const Eigen::Matrix3d& J = model_.params().inertia;
+  const Eigen::Vector3d e_R = 0.5 * vee(R_d.transpose() * R - R.transpose() * R_d);
+  const Eigen::Vector3d& w = x.w_I;
+  const Eigen::Vector3d M = J * (-gains_.kr.cwiseProduct(e_R) - gains_.kw.cwiseProduct(w)) + w.cross(J * w);
+  return allocate(std::max(thrust_N, 0.0), M);
+}
+
+void GeometricController::reset(const Eigen::Vector3d& disturbance_W) {
+  integral_.setZero();
+  dist_W_ = disturbance_W;
+  first_ = false;
 }
 
 }  // namespace vid::sim

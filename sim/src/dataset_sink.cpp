@@ -36,6 +36,18 @@ void DatasetSink::on_force(const ForceSample& s) {
   writer_.write(f);
 }
 
+void DatasetSink::on_phase(const PhaseSample& s) {
+  if (!phase_.is_open()) {
+    const std::filesystem::path dir = writer_.mav0() / "phase0";
+    std::filesystem::create_directories(dir);
+    phase_.open(dir / "data.csv");
+    if (!phase_) throw io::DatasetError((dir / "data.csv").string() + ": cannot create");
+    phase_ << "#timestamp [ns],phase\n";
+  }
+  phase_ << s.t_ns << ',' << static_cast<int>(s.phase) << '\n';
+  if (!phase_) throw io::DatasetError((writer_.mav0() / "phase0" / "data.csv").string() + ": write failed");
+}
+
 void DatasetSink::on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI) {
   if (visual_) visual_->on_camera(t_ns, frame_index, T_WI, writer_);
   ++frames_;
@@ -46,6 +58,7 @@ void DatasetSink::finish() {
   finished_ = true;
   if (visual_) visual_->finish(writer_, R_GS_);
   writer_.close();
+  if (phase_.is_open()) phase_.close();
 }
 
 }  // namespace vid::sim

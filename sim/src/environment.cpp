@@ -27,6 +27,7 @@ SimEnvironment::SimEnvironment(const EnvironmentConfig& config, double initial_m
       g = phi * g + q * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
     }
   }
+  if (config_.ground.enabled) ground_.emplace(config_.ground);
   impacts_ = config_.impacts;
   const auto drawn = draw_random_impacts(config_.random_impacts, duration_s, derive_seed(seed, 0x696d7061ULL));
   impacts_.insert(impacts_.end(), drawn.begin(), drawn.end());
@@ -59,7 +60,8 @@ Eigen::Vector3d SimEnvironment::tether_force_W(const dynamics::QuadrotorState& x
   return rope_force(config_.tether, x.p_WI, x.v_WI, Eigen::Vector3d::Zero()).f_W;
 }
 
-ForceAndRate SimEnvironment::evaluate(double t, const dynamics::QuadrotorState& x, const Eigen::Vector3d& a_W) const {
+ForceAndRate SimEnvironment::evaluate(double t, const dynamics::QuadrotorState& x, const Eigen::Vector3d& a_W,
+                                      const Eigen::Vector3d& dw_I) const {
   ForceAndRate sum;
   auto add = [&sum](const ForceAndRate& s) {
     sum.f_W += s.f_W;
@@ -89,16 +91,30 @@ ForceAndRate SimEnvironment::evaluate(double t, const dynamics::QuadrotorState& 
     add({R_WI * f_I, R_WI * (x.w_I.cross(f_I) + df_I)});
   }
   add(config_.from_file.eval(t));
+  if (ground_) {
+    const ContactWrench c = ground_->evaluate(x, a_W, dw_I);
+    add({c.f_W, c.df_W});
+  }
   return sum;
 }
 
 Eigen::Vector3d SimEnvironment::force_W(double t, const dynamics::QuadrotorState& x) const {
-  return evaluate(t, x, Eigen::Vector3d::Zero()).f_W;
+  return evaluate(t, x, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()).f_W;
+}
+
+Eigen::Vector3d SimEnvironment::torque_I(double /*t_s*/, const dynamics::QuadrotorState& x) const {
+  if (!ground_) return Eigen::Vector3d::Zero();
+  return ground_->evaluate(x, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()).tau_I;
+}
+
+ContactWrench SimEnvironment::ground_contact(const dynamics::QuadrotorState& x, const Eigen::Vector3d& a_W,
+                                             const Eigen::Vector3d& dw_I) const {
+  return ground_ ? ground_->evaluate(x, a_W, dw_I) : ContactWrench{};
 }
 
 Eigen::Vector3d SimEnvironment::force_rate_W(double t, const dynamics::QuadrotorState& x,
-                                             const Eigen::Vector3d& a_W) const {
-  return evaluate(t, x, a_W).df_W;
+                                             const Eigen::Vector3d& a_W, const Eigen::Vector3d& dw_I) const {
+  return evaluate(t, x, a_W, dw_I).df_W;
 }
 
 double SimEnvironment::mass_kg(double t) const {
@@ -117,14 +133,15 @@ double SimEnvironment::mass_kg(double t) const {
 }
 
 Eigen::Vector3d external_force_rate_W(const SimEnvironment& env, const dynamics::QuadrotorParams& vehicle,
-                                      double t, const dynamics::QuadrotorState& x, const Eigen::Vector3d& a_W) {
+                                      double t, const dynamics::QuadrotorState& x, const Eigen::Vector3d& a_W,
+                                      const Eigen::Vector3d& dw_I) {
   // d/dt (-R D R^T v) with dR/dt = R [w]x: -R (w x (D v_I) - D (w x v_I) + D R^T a).
   const Eigen::Matrix3d R_WI = x.q_WI.toRotationMatrix();
   const Eigen::Vector3d& d = vehicle.linear_drag;
   const Eigen::Vector3d v_I = R_WI.transpose() * x.v_WI;
   const Eigen::Vector3d drag_rate_I =
       x.w_I.cross(d.cwiseProduct(v_I)) - d.cwiseProduct(x.w_I.cross(v_I)) + d.cwiseProduct(R_WI.transpose() * a_W);
-  return env.force_rate_W(t, x, a_W) - R_WI * drag_rate_I;
+  return env.force_rate_W(t, x, a_W, dw_I) - R_WI * drag_rate_I;
 }
 
 }  // namespace vid::sim

@@ -362,6 +362,7 @@ Scenario detail::scenario_from_node(const YAML::Node& root, const std::string& n
   s.scene_node = r.get_raw("scene");
   s.render_node = r.get_raw("render");
   s.features_node = r.get_raw("features");
+  detail::parse_ground(r, &s);
   r.check_unknown();
   if (!(s.duration_s > 0.0)) r.fail("duration_s", "must be > 0");
   return s;

@@ -45,6 +45,10 @@ RotorSample RotorSensorModel::measure(TimeNs t_ns, const Eigen::VectorXd& speeds
   for (Eigen::Index i = 0; i < speeds.size(); ++i) {
     double n = speeds[i];
     if (noise_) n += sigma * rng_.normal();
+    // A stopped rotor gives no tachometer pulses: exactly 0. A turning one never reads
+    // below 0 (the noise is clipped; it is drawn in both cases to keep the stream aligned).
+    if (speeds[i] == 0.0) n = 0.0;
+    if (n < 0.0) n = 0.0;
     s.speeds.push_back(n);
   }
   return s;

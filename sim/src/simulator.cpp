@@ -40,10 +40,30 @@ double yaw_of(const Eigen::Quaterniond& q_WI) {
 }  // namespace
 
 Simulator::Simulator(const Scenario& scenario) : scenario_(scenario) {
-  model_ = std::make_unique<dynamics::QuadrotorModel>(scenario_.vehicle);
+  const TakeoffLandingConfig& tl = scenario_.takeoff_landing;
+  if (tl.enabled) {
+    // The controller keeps idle as its lower bound while armed; the motors themselves can stop.
+    armed_model_ = std::make_unique<dynamics::QuadrotorModel>(scenario_.vehicle);
+    dynamics::QuadrotorParams physics = scenario_.vehicle;
+    physics.rotor_speed_min = 0.0;
+    model_ = std::make_unique<dynamics::QuadrotorModel>(physics);
+  } else {
+    model_ = std::make_unique<dynamics::QuadrotorModel>(scenario_.vehicle);
+  }
   trajectory_ = make_trajectory(scenario_.trajectory);
   environment_ = std::make_unique<SimEnvironment>(scenario_.environment, scenario_.vehicle.mass_kg,
                                                   scenario_.duration_s, derive_seed(scenario_.seed, kEnvStream));
+  if (tl.enabled) {
+    const GroundContact& ground = *environment_->ground();
+    const double rest_height =
+        ground.config().gear_length_m - ground.static_sag_m(environment_->mass_kg(0.0), scenario_.vehicle.gravity);
+    const TrajectoryConfig& tc = scenario_.trajectory;
+    plan_ = plan_takeoff_landing(tl, *trajectory_, rest_height, scenario_.duration_s, tc.max_speed, tc.max_accel,
+                                 scenario_.vehicle.motor_time_constant_s);
+    trajectory_ = make_takeoff_landing_trajectory(std::move(trajectory_), *plan_, tl, tc.max_accel);
+    settle_on_ground();
+  }
+  reset_ground_contact();
   const double yaw0_deg = yaw_of(initial_state().q_WI) * 180.0 / M_PI;
   heading_deg_ = yaw0_deg;
   if (scenario_.initial_heading_random) {
@@ -56,7 +76,39 @@ Simulator::Simulator(const Scenario& scenario) : scenario_(scenario) {
 
 Simulator::~Simulator() = default;
 
+void Simulator::settle_on_ground() {
+  constexpr double kSettleS = 2.0;  // > 100 time constants of the slowest contact mode
+  dynamics::QuadrotorState x;
+  x.p_WI = plan_->p_rest_W;
+  x.q_WI = Eigen::Quaterniond(Eigen::AngleAxisd(plan_->yaw_start, Eigen::Vector3d::UnitZ()));
+  x.rotor_speeds = Eigen::VectorXd::Zero(model_->rotor_count());
+  SimEnvironment env = *environment_;  // the settling moves only this copy's friction anchors
+  GroundContact ground = *env.ground();
+  ground.reset_anchors(x);
+  env.set_ground(ground);
+  const double h = scenario_.physics_max_step_s;
+  const int steps = static_cast<int>(std::ceil(kSettleS / h));
+  for (int i = 0; i < steps; ++i) {  // forces held at their t = 0 values
+    x = model_->rk4_step(0.0, h, x, x.rotor_speeds, env);
+    env.commit_step(x);
+  }
+  settled_state_ = x;
+  settled_ground_ = *env.ground();
+}
+
+void Simulator::reset_ground_contact() {
+  if (!environment_->ground()) return;
+  if (settled_ground_) {
+    environment_->set_ground(*settled_ground_);
+  } else {
+    GroundContact g = *environment_->ground();
+    g.reset_anchors(initial_state());
+    environment_->set_ground(g);
+  }
+}
+
 dynamics::QuadrotorState Simulator::initial_state() const {
+  if (settled_state_) return *settled_state_;
   const FlatOutput r = trajectory_->eval(0.0);
   dynamics::QuadrotorState x;
   x.p_WI = r.p;
@@ -96,9 +148,14 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
 
   ImuModel imu(sc.imu, sc.noise, derive_seed(sc.seed, kImuStream));
   RotorSensorModel rotor(sc.rotor.sensor, sc.noise, derive_seed(sc.seed, kRotorStream));
-  GeometricController ctrl(*model_, sc.gains);
+  GeometricController ctrl(control_model(), sc.gains);
+  std::optional<TakeoffLandingPilot> pilot;
+  if (plan_) pilot.emplace(sc.takeoff_landing, *plan_, control_model());
+  const double stop_speed = kRotorStopFraction * control_model().params().rotor_speed_min;
 
   dynamics::QuadrotorState x = initial_state();
+  const bool ground = environment_->ground() != nullptr;
+  reset_ground_contact();
   Eigen::VectorXd n_cmd = x.rotor_speeds;
   const Eigen::Vector3d g_W(0.0, 0.0, -sc.vehicle.gravity);
   TimeNs t = t0;
@@ -126,10 +183,18 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
       gt.b_g = imu.gyro_bias();
       gt.b_a = imu.accel_bias();
       sink.on_groundtruth(gt);
+      // With the floor, the contact force's rate depends on the angular acceleration too.
+      Eigen::Vector3d dw_I = Eigen::Vector3d::Zero();
+      ContactWrench contact;
+      if (ground) {
+        dw_I = model_->derivative(ts, x, n_cmd, *environment_).w_dot;
+        contact = environment_->ground_contact(x, f.accel_W, dw_I);
+      }
       sink.on_force(ForceSample{t, f.external_W(),
-                                external_force_rate_W(*environment_, model_->params(), ts, x, f.accel_W), true});
+                                external_force_rate_W(*environment_, model_->params(), ts, x, f.accel_W, dw_I), true});
       sink.on_mass(MassSample{t, f.mass_kg});
-      sink.on_truth(TruthSample{t, x, f, imu.gyro_bias(), imu.accel_bias()});
+      sink.on_truth(TruthSample{t, x, f, imu.gyro_bias(), imu.accel_bias(), contact});
+      if (ground) sink.on_phase({t, contact.on_ground() ? FlightPhase::kOnGround : FlightPhase::kAirborne});
       gt_s.advance();
     }
     if (imu_s.due(t)) {  // bias walks after the sample and its ground truth
@@ -145,7 +210,13 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
     }
     if (ctrl_s.due(t)) {
       ControllerInput in{ts, x, f.accel_W};
-      n_cmd = ctrl.update(in, *trajectory_, static_cast<double>(t - last_ctrl) * 1e-9);
+      const double dt_ctrl = static_cast<double>(t - last_ctrl) * 1e-9;
+      if (ground) {
+        const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+        in.in_contact = environment_->ground_contact(x, zero, zero).on_ground();
+      }
+      n_cmd = pilot ? pilot->command(in, ctrl, *trajectory_, dt_ctrl, f.mass_kg * sc.vehicle.gravity)
+                    : ctrl.update(in, *trajectory_, dt_ctrl);
       last_ctrl = t;
       ctrl_s.advance();
     }
@@ -159,6 +230,13 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
                               ctrl_s.next()});
     const double h = static_cast<double>(t_next - t) * 1e-9;
     x = model_->rk4_step(ts, h, x, n_cmd, *environment_);
+    if (ground) environment_->commit_step(x);
+    if (pilot && pilot->disarmed()) {
+      // A disarmed motor runs down and stops (the first-order lag alone would never reach 0).
+      for (Eigen::Index i = 0; i < x.rotor_speeds.size(); ++i) {
+        if (x.rotor_speeds[i] < stop_speed) x.rotor_speeds[i] = 0.0;
+      }
+    }
     t = t_next;
   }
   if (progress) progress(sc.duration_s, sc.duration_s);

@@ -5,8 +5,18 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 namespace vid::sim::detail {
+
+inline constexpr double kSmoothstepPeakVel = 2.1875;           ///< max S'(x)
+inline constexpr double kSmoothstepPeakAcc = 7.5131884024732;  ///< max |S''(x)|
+
+/// @brief Duration of a rest-to-rest smoothstep move over @p length_m within the speed and
+/// acceleration limits (at least 1 ms).
+inline double smoothstep_duration(double length_m, double max_speed, double max_accel) {
+  return std::max({kSmoothstepPeakVel * length_m / max_speed, std::sqrt(kSmoothstepPeakAcc * length_m / max_accel), 1e-3});
+}
 
 /// @brief S(x) and its first four derivatives for x clamped to [0, 1].
 inline std::array<double, 5> smoothstep7(double x) {

@@ -18,9 +18,6 @@ namespace vid::sim::detail {
 
 namespace {
 
-constexpr double kPeakVel = 2.1875;           // max S'(x)
-constexpr double kPeakAcc = 7.5131884024732;  // max |S''(x)|
-
 /// @brief Closed polygon flown corner to corner, stopping at each corner.
 class RestToRest : public Trajectory {
  public:
@@ -31,7 +28,7 @@ class RestToRest : public Trajectory {
     double t = 0.0;
     for (std::size_t i = 0; i < corners_.size(); ++i) {
       const double L = (corners_[(i + 1) % corners_.size()] - corners_[i]).norm();
-      const double T = std::max({kPeakVel * L / c.max_speed, std::sqrt(kPeakAcc * L / c.max_accel), 1e-3});
+      const double T = smoothstep_duration(L, c.max_speed, c.max_accel);
       starts_.push_back(t);
       durations_.push_back(T);
       t += T;

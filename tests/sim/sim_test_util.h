@@ -21,12 +21,14 @@ struct Recording : SimSink {
   std::vector<ForceSample> force;
   std::vector<MassSample> mass;
   std::vector<TruthSample> truth;
+  std::vector<PhaseSample> phase;
   void on_imu(const ImuSample& s) override { imu.push_back(s); }
   void on_rotor(const RotorSample& s) override { rotor.push_back(s); }
   void on_groundtruth(const GroundTruthSample& s) override { gt.push_back(s); }
   void on_force(const ForceSample& s) override { force.push_back(s); }
   void on_mass(const MassSample& s) override { mass.push_back(s); }
   void on_truth(const TruthSample& s) override { truth.push_back(s); }
+  void on_phase(const PhaseSample& s) override { phase.push_back(s); }
 };
 
 /// @brief Run a scenario without cameras and return what it produced.

@@ -69,6 +69,14 @@ class Environment {
   virtual Eigen::Vector3d force_W(double t_s, const QuadrotorState& x) const = 0;
   /// @brief Mass at time t [kg].
   virtual double mass_kg(double t_s) const = 0;
+  /// @brief External torque about the CoM in I [N m] (e.g. ground contact at the landing
+  /// gear); none by default.
+  virtual Eigen::Vector3d torque_I(double /*t_s*/, const QuadrotorState& /*x*/) const {
+    return Eigen::Vector3d::Zero();
+  }
+  /// @brief False when torque_I() is zero for every state (the default): the model then
+  /// skips it, so environments without torque integrate exactly as before it existed.
+  virtual bool has_torque() const { return false; }
 };
 
 /// @brief Forces acting at one instant (for sensors, ground truth and checks).
@@ -77,6 +85,7 @@ struct ForceBreakdown {
   Eigen::Vector3d torque_I = Eigen::Vector3d::Zero();   ///< rotor torques [N m]
   Eigen::Vector3d drag_W = Eigen::Vector3d::Zero();     ///< linear rotor drag [N]
   Eigen::Vector3d env_W = Eigen::Vector3d::Zero();      ///< Environment::force_W [N]
+  Eigen::Vector3d env_torque_I = Eigen::Vector3d::Zero();  ///< Environment::torque_I [N m]
   double mass_kg = 0.0;
   Eigen::Vector3d accel_W = Eigen::Vector3d::Zero();    ///< a_W [m/s^2]
   /// @brief All non-thrust, non-gravity force (env + drag) in W [N]; this is force0.

@@ -5,6 +5,7 @@
 /// an accelerometer-style disturbance observer, mapping to rotor speeds within limits.
 
 #include <Eigen/Core>
+#include <limits>
 
 #include "dynamics/quadrotor.h"
 #include "sim/trajectory.h"
@@ -28,6 +29,12 @@ struct ControllerInput {
   double t_s = 0.0;
   dynamics::QuadrotorState state;
   Eigen::Vector3d accel_W = Eigen::Vector3d::Zero();  ///< current true acceleration
+  /// The gear touches the floor (an autopilot's ground-contact flag, idealised as the true
+  /// contact): the integral and the disturbance observer hold their values, since the ground
+  /// reaction is no disturbance to fly against.
+  bool in_contact = false;
+  /// Collective thrust limit [N] (the take-off spin-up ramp); infinity = none.
+  double max_thrust_N = std::numeric_limits<double>::infinity();
 };
 
 /// @brief Stateful tracking controller; call update() at the control rate.
@@ -42,6 +49,12 @@ class GeometricController {
                      Eigen::Matrix3d* R_WI, Eigen::Vector3d* w_I, Eigen::Vector3d* dw_I) const;
   /// @brief Rotor speeds producing collective thrust T [N] and torque M_I [N m] (clipped).
   Eigen::VectorXd allocate(double thrust_N, const Eigen::Vector3d& torque_I) const;
+  /// @brief Rotor speeds for collective thrust @p thrust_N with the attitude held level at
+  /// heading @p yaw (zero desired rate): spin-up and spin-down on the ground.
+  Eigen::VectorXd attitude_hold(const dynamics::QuadrotorState& x, double thrust_N, double yaw) const;
+  /// @brief Start tracking afresh (e.g. at lift-off): integral zero, observer seeded with
+  /// @p disturbance_W.
+  void reset(const Eigen::Vector3d& disturbance_W);
   /// @brief Current disturbance estimate (world force, N).
   const Eigen::Vector3d& disturbance_W() const { return dist_W_; }
   /// @brief Seed the observer (e.g. with the initial external force).

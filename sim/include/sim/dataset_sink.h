@@ -4,6 +4,7 @@
 /// camera triggers to the visual output (rendered images and/or feat0 + landmarks.csv).
 
 #include <filesystem>
+#include <fstream>
 #include <memory>
 
 #include "io/dataset_writer.h"
@@ -47,6 +48,8 @@ class DatasetSink : public SimSink {
   void on_groundtruth(const GroundTruthSample& s) override;
   void on_force(const ForceSample& s) override;
   void on_mass(const MassSample& s) override { writer_.write(s); }
+  /// @brief phase0/data.csv `#timestamp [ns],phase` (0 on_ground, 1 airborne; docs/formats.md §1).
+  void on_phase(const PhaseSample& s) override;
   void on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI) override;
   /// @brief Write landmarks and close all files.
   void finish();
@@ -56,6 +59,7 @@ class DatasetSink : public SimSink {
   io::DatasetWriter writer_;
   std::unique_ptr<VisualOutput> visual_;
   Eigen::Matrix3d R_GS_;
+  std::ofstream phase_;  ///< opened at the first phase sample (scenarios with `ground:`)
   std::uint64_t frames_ = 0;
   bool finished_ = false;
 };

@@ -16,6 +16,7 @@
 #include "dynamics/quadrotor.h"
 #include "sim/controller.h"
 #include "sim/environment.h"
+#include "sim/takeoff_landing.h"
 #include "sim/trajectory.h"
 #include "vio_core/calibration.h"
 #include "vio_core/measurements.h"
@@ -58,7 +59,8 @@ struct Scenario {
   std::string rotor_unit = "rpm";
   ControllerGains gains;
   TrajectoryConfig trajectory;
-  EnvironmentConfig environment;
+  EnvironmentConfig environment;   ///< incl. `ground:` (environment.ground)
+  TakeoffLandingConfig takeoff_landing;  ///< start and end at rest on the ground
 
   ImuConfig imu;
   RotorConfig rotor;

@@ -33,7 +33,8 @@ class ImuModel {
   Eigen::Vector3d b_g_, b_a_;
 };
 
-/// @brief Rotor speed sensor: y_i = n_i + sigma_d n, sigma_d = density * sqrt(rate).
+/// @brief Rotor speed sensor: y_i = max(0, n_i + sigma_d n), sigma_d = density * sqrt(rate);
+/// exactly 0 for a stopped rotor (n_i = 0).
 class RotorSensorModel {
  public:
   RotorSensorModel(const RotorSensor& config, bool noise, std::uint64_t seed);

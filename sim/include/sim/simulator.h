@@ -7,11 +7,14 @@
 #include <Eigen/Geometry>
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include "dynamics/quadrotor.h"
 #include "sim/controller.h"
 #include "sim/environment.h"
+#include "sim/ground_contact.h"
 #include "sim/scenario.h"
+#include "sim/takeoff_landing.h"
 #include "sim/trajectory.h"
 #include "vio_core/measurements.h"
 
@@ -24,6 +27,21 @@ struct TruthSample {
   dynamics::ForceBreakdown forces;
   Eigen::Vector3d b_g = Eigen::Vector3d::Zero();
   Eigen::Vector3d b_a = Eigen::Vector3d::Zero();
+  /// Ground reaction alone (part of forces.env_W and of force0), its rate and torque; zero
+  /// without `ground:`.
+  ContactWrench ground;
+};
+
+/// @brief Contact phase of the vehicle (phase0/data.csv, docs/formats.md §1).
+enum class FlightPhase : int {
+  kOnGround = 0,  ///< at least one gear foot touches the floor (ContactWrench::on_ground)
+  kAirborne = 1,  ///< no foot touches the floor: the ground reaction is exactly 0
+};
+
+/// @brief The contact phase at a ground-truth time (only with `ground:`).
+struct PhaseSample {
+  TimeNs t_ns = 0;
+  FlightPhase phase = FlightPhase::kAirborne;
 };
 
 /// @brief Receiver of everything the simulator produces (all methods optional).
@@ -36,6 +54,8 @@ class SimSink {
   virtual void on_force(const ForceSample&) {}
   virtual void on_mass(const MassSample&) {}
   virtual void on_truth(const TruthSample&) {}
+  /// @brief Contact phase at every ground-truth time, only when the scenario has `ground:`.
+  virtual void on_phase(const PhaseSample&) {}
   /// @brief A camera trigger: body pose at the image time (cameras via their T_IC).
   virtual void on_camera(TimeNs /*t_ns*/, std::uint64_t /*frame_index*/, const Eigen::Isometry3d& /*T_WI*/) {}
 };
@@ -50,12 +70,19 @@ class Simulator {
   void run(SimSink& sink, const std::function<void(double, double)>& progress = {});
 
   const Scenario& scenario() const { return scenario_; }
+  /// @brief The vehicle as integrated (with `takeoff_landing:` its rotor_speed_min is 0: a
+  /// disarmed rotor stops).
   const dynamics::QuadrotorModel& model() const { return *model_; }
   const Trajectory& trajectory() const { return *trajectory_; }
+  /// @brief The environment; with `ground:` its friction anchors are those of t = 0 before
+  /// run() and those of the end after it.
   const SimEnvironment& environment() const { return *environment_; }
   /// @brief State at t = 0: on the reference, with attitude, body rate and rotor speeds
-  /// that realise the reference acceleration against the initial external force.
+  /// that realise the reference acceleration against the initial external force; with
+  /// `takeoff_landing:` resting on the floor with the rotors stopped (settled, see below).
   dynamics::QuadrotorState initial_state() const;
+  /// @brief The planned timeline with `takeoff_landing:`, else nullopt.
+  const std::optional<TakeoffLandingPlan>& takeoff_landing_plan() const { return plan_; }
   /// @brief Heading of the vehicle at t = 0 in the written ground-truth world [deg]: the
   /// scenario's initial_heading_deg (drawn from the seed when random), else the trajectory's.
   double initial_heading_deg() const { return heading_deg_; }
@@ -66,8 +93,21 @@ class Simulator {
 
  private:
   Scenario scenario_;
+  /// @brief Rest the vehicle on the floor: level at the planned resting pose, rotors stopped,
+  /// integrated until every transient has died out, so that at t = 0 it is truly still under
+  /// whatever side load acts (the friction anchors carry it).
+  void settle_on_ground();
+  /// @brief Put the environment's friction anchors where they are at t = 0 (settled, or
+  /// under the feet), so environment() is the t = 0 one before and at the start of run().
+  void reset_ground_contact();
+  const dynamics::QuadrotorModel& control_model() const { return armed_model_ ? *armed_model_ : *model_; }
+
   std::unique_ptr<dynamics::QuadrotorModel> model_;
+  std::unique_ptr<dynamics::QuadrotorModel> armed_model_;  ///< controller's view (idle minimum), takeoff_landing only
   std::unique_ptr<Trajectory> trajectory_;
+  std::optional<TakeoffLandingPlan> plan_;
+  std::optional<dynamics::QuadrotorState> settled_state_;
+  std::optional<GroundContact> settled_ground_;
   std::unique_ptr<SimEnvironment> environment_;
   double heading_deg_ = 0.0;
   Eigen::Matrix3d R_GS_ = Eigen::Matrix3d::Identity();
