@@ -1,0 +1,104 @@
+"""Issue 29: a flight that starts and ends on the ground, rotors stopped (takeoff_landing_short:
+rest, spin-up, lift-off, figure-8, touchdown, spin-down, rest), under the one set of defaults
+(config/sim), feature level for three seeds and rendered images for one, random initial heading.
+
+The estimator initializes on the ground from the data (no excitation), follows the ground
+reaction while landed, lift-off and touchdown without rejecting the accelerometer, and reports
+landed / airborne in summary.json (README "Flight phase"). Per-phase errors come from
+`vid-eval force` with the simulator's phase0 stream (eval/README.md).
+"""
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+from test_vid_run_helpers import REPO, VENV_BIN, first_timestamp_ns, simulate_cached, summary, tum_rows, vid_run
+from vid_eval.ate import compute_ate
+from vid_eval.loaders import load_trajectory
+from vid_eval.loaders import load_phases
+
+PRESET = "takeoff_landing_short.yaml"
+DURATION = 22.0
+_RUNS = {}
+
+
+def run(tmp_path_factory, seed: int, images: bool = False) -> dict:
+    key = (seed, images)
+    if key not in _RUNS:
+        seq = simulate_cached(PRESET, DURATION, seed, not images)
+        out = tmp_path_factory.mktemp(f"takeoff_s{seed}{'_img' if images else ''}")
+        r = vid_run(seq, out, "--config", str(REPO / "config" / "sim"))
+        assert r.returncode == 0, r.stderr
+        js = out / "force_eval.json"
+        subprocess.run([str(VENV_BIN / "vid-eval"), "force", str(out / "force.csv"),
+                        str(seq / "mav0" / "force0" / "data.csv"), "--json", str(js)],
+                       check=True, capture_output=True, timeout=120)
+        ate = compute_ate(load_trajectory(out / "trajectory_tum.txt"),
+                          load_trajectory(seq / "mav0" / "state_groundtruth_estimate0" / "data.csv"))
+        _RUNS[key] = {"seq": seq, "out": out, "summary": summary(out), "force": json.loads(js.read_text()),
+                      "att_err_max_deg": float(np.max(ate.rot_err_deg))}
+    return _RUNS[key]
+
+
+def truth_events(seq) -> list:
+    """(t_ns, 'lift_off' | 'touchdown') from the simulator's phase0 (0 on the ground, 1 airborne)."""
+    ph = load_phases(seq / "mav0" / "phase0" / "data.csv")
+    t, p = np.asarray(ph.t_ns), np.asarray(ph.values).astype(int)
+    idx = np.flatnonzero(np.diff(p) != 0) + 1
+    return [(int(t[i]), "lift_off" if p[i] == 1 else "touchdown") for i in idx]
+
+
+CASES = [(1, False), (2, False), (3, False), (1, True)]
+
+
+@pytest.mark.parametrize("seed,images", CASES)
+def test_initializes_on_the_ground_within_a_second(tmp_path_factory, seed, images):
+    r = run(tmp_path_factory, seed, images)
+    assert r["summary"]["status"] == "ok"
+    t_first = float(tum_rows(r["out"] / "trajectory_tum.txt")[0][0])
+    t_imu = first_timestamp_ns(r["seq"]) * 1e-9
+    assert t_first - t_imu <= 1.0, f"first estimate {t_first - t_imu:.2f} s after the first IMU sample"
+
+
+@pytest.mark.parametrize("seed,images", CASES)
+def test_landed_and_airborne_are_reported_at_the_true_events(tmp_path_factory, seed, images):
+    r = run(tmp_path_factory, seed, images)
+    fp = r["summary"]["flight_phase"]
+    truth = truth_events(r["seq"])
+    assert [e for _, e in truth] == ["lift_off", "touchdown"]
+    assert fp["lift_offs"] == 1 and fp["touchdowns"] == 1, fp["events"]
+    assert fp["final"] == "landed"
+    for (t_true, kind), ev in zip(truth, fp["events"]):
+        assert ev["event"] == kind
+        # The classifier speaks of support: the ground carries < 25 % of the weight shortly
+        # before the feet leave it (spin-up) and >= 50 % only once the rotors spin down.
+        assert abs(ev["t_ns"] - t_true) * 1e-9 <= 1.0, f"{kind} at {(ev['t_ns'] - t_true) * 1e-9:+.2f} s"
+    assert fp["landed_s"] > 4.0 and fp["airborne_s"] > 8.0
+
+
+@pytest.mark.parametrize("seed,images", CASES)
+def test_pose_and_airborne_force_are_followed_without_rejections(tmp_path_factory, seed, images):
+    r = run(tmp_path_factory, seed, images)
+    s = r["summary"]
+    assert s["accel"]["rejected"] == 0, "no accelerometer sample dropped, landed or airborne"
+    assert s["ate_posyaw_m"] <= 0.02, f"ATE {s['ate_posyaw_m']:.4f} m"
+    air = [g for g in r["force"]["phases"]["segments"] if g["kind"] == "airborne"][0]
+    assert air["world"]["rmse_mps2"]["norm"] <= 0.25, air["world"]
+
+
+# Issue 29 acceptance not met (measured on this preset, seeds 1-3 and images): the landed force
+# error after 1 s on the ground is 0.10-0.12 m/s^2 RMSE against 0.1 (the 2 s rests leave ~1 s
+# of it, next to the spin-up/spin-down ramps the rate model trails), and the attitude error
+# reaches up to 2.2 deg on one run (the tilt of the static initialization on the ground, from
+# the accelerometer bias). README "Flight phase".
+@pytest.mark.xfail(strict=True, reason="issue 29: landed force error 0.10-0.12 m/s^2, attitude up to 2.2 deg")
+def test_landed_force_and_attitude_meet_the_issue(tmp_path_factory):
+    worst_landed, worst_att = 0.0, 0.0
+    for seed, images in CASES:
+        r = run(tmp_path_factory, seed, images)
+        for iv in r["force"]["phases"]["landed_after"]["intervals"]:
+            worst_landed = max(worst_landed, iv["error_mps2"]["rmse"])
+        worst_att = max(worst_att, r["att_err_max_deg"])
+    assert worst_landed <= 0.1, f"landed force error after 1 s: RMSE {worst_landed:.3f} m/s^2"
+    assert worst_att <= 1.5, f"attitude error {worst_att:.2f} deg"
