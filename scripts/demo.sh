@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# The README's demo command: install, build, simulate a short VID-like flight with images,
-# estimate pose and external force, evaluate against ground truth, print numbers, write plots.
+# The README's demo command: install, build, simulate a short VID-like flight with images that
+# starts and ends on the ground with the rotors stopped (take-off, figure-8, landing), estimate
+# pose and external force, evaluate against ground truth (per flight phase), print numbers,
+# write plots.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${VID_BUILD_DIR:-$ROOT/build}"
 OUT="${VID_DEMO_OUT:-$ROOT/demo_out}"
-SCENARIO="${VID_DEMO_SCENARIO:-$ROOT/config/sim/vid17_like.yaml}"
-DURATION="${VID_DEMO_DURATION:-30}"
+SCENARIO="${VID_DEMO_SCENARIO:-$ROOT/config/sim/takeoff_landing_short.yaml}"
+DURATION="${VID_DEMO_DURATION:-22}"
 
 bash "$ROOT/scripts/setup.sh"
 bash "$ROOT/scripts/build.sh"
@@ -40,6 +42,11 @@ if "force_alignment" in s:
 if "accel" in s:
     a = s["accel"]
     print(f"[demo] accelerometer: {a['rejected']} of {a['samples']} samples rejected, "
-          f"{a['force_jumps']} force jumps")
+          f"{a.get('downweighted', 0)} down-weighted, {a['force_jumps']} force jumps")
+if "flight_phase" in s:
+    fp = s["flight_phase"]
+    events = ", ".join(f"{e['event']} at {(e['t_ns'] - fp['events'][0]['t_ns']) * 1e-9:+.1f} s" for e in fp["events"])
+    print(f"[demo] flight phase: {fp['landed_s']:.1f} s landed, {fp['airborne_s']:.1f} s airborne"
+          f" ({fp['lift_offs']} lift-off, {fp['touchdowns']} touchdown; {events}); now {fp['final']}")
 print(f"[demo] plots in {out / 'plots'}")
 PY

@@ -55,7 +55,7 @@ nlohmann::json flight_phase_report(const PipelineCounters& c, FlightPhase now) {
 
 nlohmann::json accel_report(const PipelineCounters& c) {
   nlohmann::json j;
-  const long seen = c.accel_updates + c.accel_rejected + c.accel_used_in_jumps;
+  const long seen = c.accel_updates + c.accel_rejected + c.accel_downweighted + c.accel_used_in_jumps;
   j["samples"] = seen;
   j["rejected"] = c.accel_rejected;
   j["rejected_fraction"] = seen > 0 ? static_cast<double>(c.accel_rejected) / static_cast<double>(seen) : 0.0;

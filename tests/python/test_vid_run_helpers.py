@@ -13,6 +13,10 @@ import signal
 import subprocess
 import time
 
+import numpy as np
+from vid_eval.ate import compute_ate
+from vid_eval.loaders import load_trajectory
+
 REPO = pathlib.Path(__file__).resolve().parents[2]
 VENV_BIN = REPO / ".venv" / "bin"
 
@@ -75,6 +79,22 @@ def vid_run(dataset: pathlib.Path, out: pathlib.Path, *args: str, timeout: float
 
 def summary(out: pathlib.Path) -> dict:
     return json.loads((out / "summary.json").read_text())
+
+
+def run_and_score(seq: pathlib.Path, out: pathlib.Path, config: pathlib.Path, skip_s: float = 0.0) -> dict:
+    """vid_run --config on a simulated folder, then `vid-eval force --json` and the ATE:
+    {"summary", "force" (the JSON), "att_err_max_deg" (after skip_s seconds)}."""
+    r = vid_run(seq, out, "--config", str(config))
+    assert r.returncode == 0, r.stderr
+    js = out / "force_eval.json"
+    subprocess.run([str(VENV_BIN / "vid-eval"), "force", str(out / "force.csv"),
+                    str(seq / "mav0" / "force0" / "data.csv"), "--json", str(js)],
+                   check=True, capture_output=True, timeout=120)
+    ate = compute_ate(load_trajectory(out / "trajectory_tum.txt"),
+                      load_trajectory(seq / "mav0" / "state_groundtruth_estimate0" / "data.csv"))
+    t = (ate.est_aligned.t_ns - ate.gt.t_ns[0]) * 1e-9
+    return {"summary": summary(out), "force": json.loads(js.read_text()),
+            "att_err_max_deg": float(np.max(ate.rot_err_deg[t > skip_s]))}
 
 
 def tum_rows(path: pathlib.Path) -> list:

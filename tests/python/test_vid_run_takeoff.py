@@ -7,15 +7,11 @@ reaction while landed, lift-off and touchdown without rejecting the acceleromete
 landed / airborne in summary.json (README "Flight phase"). Per-phase errors come from
 `vid-eval force` with the simulator's phase0 stream (eval/README.md).
 """
-import json
-import subprocess
 
 import numpy as np
 import pytest
 
-from test_vid_run_helpers import REPO, VENV_BIN, first_timestamp_ns, simulate_cached, summary, tum_rows, vid_run
-from vid_eval.ate import compute_ate
-from vid_eval.loaders import load_trajectory
+from test_vid_run_helpers import REPO, first_timestamp_ns, run_and_score, simulate_cached, tum_rows
 from vid_eval.loaders import load_phases
 
 PRESET = "takeoff_landing_short.yaml"
@@ -28,16 +24,7 @@ def run(tmp_path_factory, seed: int, images: bool = False) -> dict:
     if key not in _RUNS:
         seq = simulate_cached(PRESET, DURATION, seed, not images)
         out = tmp_path_factory.mktemp(f"takeoff_s{seed}{'_img' if images else ''}")
-        r = vid_run(seq, out, "--config", str(REPO / "config" / "sim"))
-        assert r.returncode == 0, r.stderr
-        js = out / "force_eval.json"
-        subprocess.run([str(VENV_BIN / "vid-eval"), "force", str(out / "force.csv"),
-                        str(seq / "mav0" / "force0" / "data.csv"), "--json", str(js)],
-                       check=True, capture_output=True, timeout=120)
-        ate = compute_ate(load_trajectory(out / "trajectory_tum.txt"),
-                          load_trajectory(seq / "mav0" / "state_groundtruth_estimate0" / "data.csv"))
-        _RUNS[key] = {"seq": seq, "out": out, "summary": summary(out), "force": json.loads(js.read_text()),
-                      "att_err_max_deg": float(np.max(ate.rot_err_deg))}
+        _RUNS[key] = {"seq": seq, "out": out, **run_and_score(seq, out, REPO / "config" / "sim")}
     return _RUNS[key]
 
 

@@ -79,9 +79,9 @@ void Pipeline::push(const Measurement& m) {
 
 void Pipeline::finish() {
   drain(true);
-  // Samples still in the jump detector's window: a gated one was never used.
+  // Samples still in the jump detector's window: no jump used a gated one.
   for (int i = jumps_.size() - 1; i >= 0; --i)
-    if (jumps_.recent(i).gated) record_rejected(jumps_.recent(i).t_ns);
+    if (jumps_.recent(i).gated) record_past_gate(jumps_.recent(i).t_ns);
   jumps_.clear();
 }
 
@@ -107,6 +107,14 @@ void Pipeline::record_downweighted(TimeNs t) {
   add_to_spans(counters_.accel_downweighted_spans, t);
 }
 
+void Pipeline::record_past_gate(TimeNs t) {
+  if (config_.params.accel_gate_downweight) {
+    record_downweighted(t);
+  } else {
+    record_rejected(t);
+  }
+}
+
 void Pipeline::accel_step(const ImuInput& in) {
   const EstimatorParams& p = config_.params;
   const double noise_var = p.accel_noise_density * p.accel_noise_density * p.imu_rate_hz;
@@ -114,23 +122,20 @@ void Pipeline::accel_step(const ImuInput& in) {
   const bool down = p.accel_gate_downweight;
   if (!p.force_jump_detection) {
     const UpdateResult u = accel_update(state_, in.accel, in.T_m, noise_var, thr, nullptr, down);
-    if (u.applied) {
+    if (u.applied && !u.downweighted) {
       ++counters_.accel_updates;
-      if (u.downweighted) record_downweighted(in.t);
     } else {
-      record_rejected(in.t);
+      record_past_gate(in.t);
     }
     return;
   }
   AccelInnovation info;
   const UpdateResult u = accel_update(state_, in.accel, in.T_m, noise_var, thr, &info, down);
-  if (u.applied) ++counters_.accel_updates;
-  if (u.downweighted) {
-    record_downweighted(in.t);
-    info.gated = false;  // applied: nothing left for a jump to recover
-  }
-  // A gated sample stays in the detector's window: rejected only if no jump uses it.
-  if (auto old = jumps_.push(info); old && old->gated) record_rejected(old->t_ns);
+  if (u.applied && !u.downweighted) ++counters_.accel_updates;
+  // A sample past the gate (rejected or down-weighted) stays in the detector's window: if a
+  // jump uses it, its correction is undone and it counts at full weight in the jump's estimate;
+  // otherwise it counts as rejected / down-weighted once it leaves the window.
+  if (auto old = jumps_.push(info); old && old->gated) record_past_gate(old->t_ns);
   const std::optional<ForceJump> jump = jumps_.test();
   if (!jump) return;
   std::vector<AccelInnovation> window;
@@ -139,7 +144,7 @@ void Pipeline::accel_step(const ImuInput& in) {
     if (window.back().gated) ++counters_.accel_used_in_jumps;
   }
   for (int i = jump->n; i < jumps_.size(); ++i)
-    if (jumps_.recent(i).gated) record_rejected(jumps_.recent(i).t_ns);
+    if (jumps_.recent(i).gated) record_past_gate(jumps_.recent(i).t_ns);
   jumps_.clear();
   apply_force_jump(state_, window, *jump, noise_var, p.init_sigma_force_rate);
   ++counters_.force_jumps;

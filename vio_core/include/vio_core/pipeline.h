@@ -103,12 +103,13 @@ struct FlightPhaseRecord {
 /// @brief Event counters.
 struct PipelineCounters {
   long imu_samples = 0;
-  long accel_updates = 0;     ///< accelerometer samples applied one by one
+  long accel_updates = 0;     ///< accelerometer samples applied one by one at full weight
   /// Samples the chi2 gate held back and no force jump used: final once a sample has left
   /// the detector's window (force_jump_window samples later) or at finish().
   long accel_rejected = 0;
-  long accel_used_in_jumps = 0;  ///< held back by the gate, then used in a jump's estimate
-  /// Past the gate and applied down-weighted (accel_gate_downweight; part of accel_updates).
+  long accel_used_in_jumps = 0;  ///< past the gate, then used at full weight in a jump's estimate
+  /// Past the gate, applied down-weighted (accel_gate_downweight) and used by no force jump;
+  /// final like accel_rejected.
   long accel_downweighted = 0;
   std::vector<TimeSpan> accel_downweighted_spans;  ///< down-weighted samples less than 50 ms apart joined
   long force_jumps = 0;
@@ -175,6 +176,7 @@ class Pipeline {
   void accel_step(const ImuInput& in);
   void record_rejected(TimeNs t);
   void record_downweighted(TimeNs t);
+  void record_past_gate(TimeNs t);  ///< rejected or down-weighted, by accel_gate_downweight
   void update_flight_phase(TimeNs t);
   ImuInput interpolate(const ImuInput& a, const ImuInput& b, TimeNs t) const;
 
