@@ -75,11 +75,12 @@ def test_pose_and_airborne_force_are_followed_without_rejections(tmp_path_factor
 
 
 # Issue 29 acceptance not met (measured on this preset, seeds 1-3 and images): the landed force
-# error after 1 s on the ground is 0.10-0.12 m/s^2 RMSE against 0.1 (the 2 s rests leave ~1 s
-# of it, next to the spin-up/spin-down ramps the rate model trails), and the attitude error
+# error after 1 s on the ground is 0.10-0.12 m/s^2 RMSE against 0.1 at feature level and up to
+# 0.18 on rendered images (the 2 s rests leave ~1 s of it, next to the idle / spin-up and
+# spin-down ramps the rate model trails), and the attitude error
 # reaches up to 2.2 deg on one run (the tilt of the static initialization on the ground, from
 # the accelerometer bias). README "Flight phase".
-@pytest.mark.xfail(strict=True, reason="issue 29: landed force error 0.10-0.12 m/s^2, attitude up to 2.2 deg")
+@pytest.mark.xfail(strict=True, reason="issue 29: landed force error 0.10-0.18 m/s^2, attitude up to 2.2 deg")
 def test_landed_force_and_attitude_meet_the_issue(tmp_path_factory):
     worst_landed, worst_att = 0.0, 0.0
     for seed, images in CASES:
