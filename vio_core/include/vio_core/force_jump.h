@@ -45,7 +45,7 @@ struct AccelInnovation {
   Eigen::Vector3d y = Eigen::Vector3d::Zero();
   Eigen::Matrix3d R_WI = Eigen::Matrix3d::Identity();  ///< orientation estimate at the sample
   Eigen::Matrix<double, kMaxImuDim, 1> dx_imu = Eigen::Matrix<double, kMaxImuDim, 1>::Zero();  ///< IMU-block correction applied (0 if gated)
-  bool gated = false;  ///< rejected by the chi2 gate when it arrived
+  bool gated = false;  ///< past the chi2 gate when it arrived (rejected, or applied down-weighted)
 };
 
 /// @brief A detected step: over the newest n samples, GLR statistic and jump estimate.
