@@ -49,6 +49,7 @@ const DoubleField kDoubles[] = {
     VID_FIELD(triangulation_max_condition),
     VID_FIELD(zero_velocity_max_parallax_px),
     VID_FIELD(zero_velocity_sigma),
+    VID_FIELD(landed_zero_velocity_sigma),
     VID_FIELD(init_window_s),
     VID_FIELD(init_accel_std_max),
     VID_FIELD(init_gyro_std_max),

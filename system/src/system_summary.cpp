@@ -28,6 +28,7 @@ void add_counters(PipelineCounters& a, const PipelineCounters& b) {
   a.features_rejected_chi2 += b.features_rejected_chi2;
   a.features_too_short += b.features_too_short;
   a.zero_velocity_updates += b.zero_velocity_updates;
+  a.zero_velocity_updates_landed += b.zero_velocity_updates_landed;
   a.observations_without_norm += b.observations_without_norm;
   a.landed_s += b.landed_s;
   a.airborne_s += b.airborne_s;
@@ -122,7 +123,8 @@ nlohmann::json System::summary() const {
                  {"features_used", c.features_used},
                  {"features_rejected", c.features_rejected},
                  {"features_rejected_chi2", c.features_rejected_chi2},
-                 {"zero_velocity_updates", c.zero_velocity_updates}};
+                 {"zero_velocity_updates", c.zero_velocity_updates},
+                 {"zero_velocity_updates_landed", c.zero_velocity_updates_landed}};
   if (restarts_ > 0) s["counts"]["estimator_restarts"] = restarts_;
   s["accel"] = accel_report(c);
   if (dynamics()) s["flight_phase"] = flight_phase_report(c, pipeline_->flight_phase());

@@ -62,6 +62,11 @@ def test_landed_and_airborne_are_reported_at_the_true_events(tmp_path_factory, s
         # before the feet leave it (spin-up) and >= 50 % only once the rotors spin down.
         assert abs(ev["t_ns"] - t_true) * 1e-9 <= 1.0, f"{kind} at {(ev['t_ns'] - t_true) * 1e-9:+.2f} s"
     assert fp["landed_s"] > 4.0 and fp["airborne_s"] > 8.0
+    # Standing on the ground, the stereo filter applies the zero-velocity update (no parallax
+    # in the window), and only then: stereo never needs it in the air.
+    counts = r["summary"]["counts"]
+    assert counts["zero_velocity_updates_landed"] > 0.25 * fp["landed_s"] * 30, counts  # 30 Hz camera
+    assert counts["zero_velocity_updates"] == counts["zero_velocity_updates_landed"], counts
 
 
 @pytest.mark.parametrize("seed,images", CASES)

@@ -324,9 +324,13 @@ void Pipeline::process_frame(const FeatureFrame& f) {
 
   const std::vector<msckf::ClonePose> clones = msckf::clone_poses(state_);
   const bool window_full = static_cast<int>(clones.size()) > p.window_size;
-  if (!p.use_stereo && p.zero_velocity_max_parallax_px > 0.0 && !config_.cameras.empty()) {
+  if (p.zero_velocity_max_parallax_px > 0.0 && !config_.cameras.empty()) {
     parallax_.add(usable);
-    zero_velocity_if_still(clones.front(), clones.back());
+    // Landed: standing on the ground (any camera count); otherwise only one camera needs it.
+    const bool landed = phase_.phase() == FlightPhase::kLanded && p.landed_zero_velocity_sigma > 0.0;
+    if (landed || !p.use_stereo)
+      zero_velocity_if_still(clones.front(), clones.back(),
+                             landed ? p.landed_zero_velocity_sigma : p.zero_velocity_sigma, landed);
   }
   std::vector<msckf::FeatureTrack> tracks = features_->select_for_update(clones, f.t_ns, window_full);
   if (p.max_features_per_update > 0 && static_cast<int>(tracks.size()) > p.max_features_per_update) {
@@ -380,7 +384,8 @@ void Pipeline::process_frame(const FeatureFrame& f) {
   pending_timings_ = FrameTimings{};
 }
 
-void Pipeline::zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest) {
+void Pipeline::zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest,
+                                      double sigma_mps, bool landed) {
   // A median over fewer features is not a statement about the scene; over less than 0.25 s
   // (5 frames at 20 Hz) slow motion has not yet shown above the pixel noise.
   constexpr int kMinFeatures = 20;
@@ -392,7 +397,9 @@ void Pipeline::zero_velocity_if_still(const msckf::ClonePose& oldest, const msck
   const WindowParallax px = rotation_compensated_parallax(parallax_.matches(oldest.t_ns), R_new_old,
                                                           0.5 * (cam.intrinsics[0] + cam.intrinsics[1]));
   if (px.features < kMinFeatures || !(px.median_px < config_.params.zero_velocity_max_parallax_px)) return;
-  if (zero_velocity_update(state_, config_.params.zero_velocity_sigma)) ++counters_.zero_velocity_updates;
+  if (!zero_velocity_update(state_, sigma_mps)) return;
+  ++counters_.zero_velocity_updates;
+  if (landed) ++counters_.zero_velocity_updates_landed;
 }
 
 void Pipeline::check_divergence(bool full) {

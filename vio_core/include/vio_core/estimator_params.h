@@ -109,15 +109,23 @@ struct EstimatorParams {
   /// stereo-only (hover) features up to ~1000 baselines deep, chi2 gating catches the rest.
   double triangulation_max_condition = 1e6;
 
-  // --- zero-velocity update (one camera; vio_core/zero_velocity.h) ---
+  // --- zero-velocity update (one camera, or landed; vio_core/zero_velocity.h) ---
   /// With use_stereo false: when the median rotation-compensated parallax of cam0's features
   /// between the oldest clone and now (>= 0.25 s apart, >= 20 features) is below this [px],
   /// apply v_WI = 0; 0 = off. 1.5 px is above the parallax of pixel noise on still features
   /// (median 1.66 sigma: 0.8 px at 0.5 px) and is what 2 cm/s shows over 0.5 s at 3 m depth
-  /// (f = 450 px); deeper scenes hide faster motion. Stereo sees depth in every frame and does
-  /// not use it.
+  /// (f = 450 px); deeper scenes hide faster motion. Stereo sees depth in every frame and
+  /// uses it only while landed (below).
   double zero_velocity_max_parallax_px = 1.5;
   double zero_velocity_sigma = 0.02;     ///< [m/s] per axis
+  /// While the flight phase is landed (flight_phase.h: the ground carries at least half the
+  /// weight), the same parallax test applies v_WI = 0 with this sigma [m/s], with one camera or
+  /// two: through the dynamics the zero velocity pins the ground reaction to F = -T - R^T g
+  /// while the rotors spin up or down. 0 = off. A tighter 0.005 m/s (what a vehicle on its legs
+  /// really moves) gains 30 % on the landed force but makes the tilt / accelerometer-bias pair
+  /// overconfident on the ground and costs up to 2x airborne force error after lift-off
+  /// (README "Flight phase").
+  double landed_zero_velocity_sigma = 0.02;
 
   // --- initialization ---
   InitMode init_mode = InitMode::kStatic;

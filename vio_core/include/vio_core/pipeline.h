@@ -124,7 +124,8 @@ struct PipelineCounters {
   long features_rejected = 0;   ///< chi2 + triangulation
   long features_rejected_chi2 = 0;
   long features_too_short = 0;
-  long zero_velocity_updates = 0;  ///< frames whose window showed no parallax (one camera)
+  long zero_velocity_updates = 0;  ///< frames whose window showed no parallax (one camera, or landed)
+  long zero_velocity_updates_landed = 0;  ///< of those, while landed (any camera count)
   long observations_without_norm = 0;
   double landed_s = 0.0;    ///< time classified landed (flight_phase.h) [s]
   double airborne_s = 0.0;  ///< time classified airborne [s]
@@ -170,7 +171,8 @@ class Pipeline {
   void integrate_to(const ImuInput& a, const ImuInput& b, TimeNs t_end, double noise_scale,
                     double thrust_scale);
   void process_frame(const FeatureFrame& f);
-  void zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest);
+  void zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest, double sigma_mps,
+                              bool landed);
   void check_divergence(bool full);
   void emit(TimeNs t);
   void accel_step(const ImuInput& in);
@@ -198,7 +200,7 @@ class Pipeline {
   ForceJumpDetector jumps_;
   FlightPhaseClassifier phase_;
   TimeNs phase_time_ = 0;  ///< time of the last flight-phase update
-  ParallaxWindow parallax_;  ///< cam0 frames of the clone window (one camera: zero-velocity test)
+  ParallaxWindow parallax_;  ///< cam0 frames of the clone window (zero-velocity test)
   std::function<void(const EstimateOutput&)> on_estimate_;
   std::function<void(const FrameTimings&)> on_frame_;
 };
