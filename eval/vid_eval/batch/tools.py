@@ -133,6 +133,7 @@ def do_massid_merge(p: dict, out: pathlib.Path) -> dict:
     that the ELM family trains across trajectories as `vid_massid run` does on the full data."""
     root = out / "massid" / "data"
     tmp = _fresh(root / "all")
+    tmp.mkdir()
     header, runs, trajs, profs = None, [], [], []
     for case in p["cases"]:
         text = (root / case / "manifest.yaml").read_text()
@@ -191,6 +192,7 @@ def do_massid_report(p: dict, out: pathlib.Path, build: pathlib.Path, log: pathl
     """All parts' runs.csv in one results folder, then `vid_massid report` (tables)."""
     res = out / "massid" / "results"
     tmp = _fresh(res / "all")
+    tmp.mkdir()
     header, rows = None, []
     for part in p["parts"]:
         lines = (res / part / "runs.csv").read_text().splitlines()
