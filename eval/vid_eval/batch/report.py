@@ -13,6 +13,7 @@ from typing import Dict, List, Tuple
 import numpy as np
 
 from ..runs import Run
+from ..sim_runs import yaml_scalar
 from ..tables import build_table, to_markdown
 
 # (column, label, unit) of the estimator runs' metrics that get tables and plots.
@@ -28,7 +29,7 @@ def _scenario(r: dict) -> str:
 
 def _config(r: dict) -> str:
     params = sorted((k[6:], v) for k, v in r.items() if k.startswith("param."))
-    return " ".join([str(r.get("estimator"))] + [f"{k}={v}" for k, v in params])
+    return " ".join([str(r.get("estimator"))] + [f"{k}={yaml_scalar(v)}" for k, v in params])
 
 
 def _stats(vals: List[float]) -> Tuple[float, float, float]:
@@ -62,6 +63,20 @@ def group_stats(records: List[dict]) -> List[dict]:
     return rows
 
 
+def _box_figure(plt, rows: List[dict], labels: List[str], label_of, title: str, path: pathlib.Path) -> None:
+    """One box per label and metric: the metric's values of the rows with that label."""
+    fig, axes = plt.subplots(1, len(METRICS), figsize=(4 * len(METRICS), 3.5 + 0.15 * len(labels)))
+    for ax, (key, label, unit) in zip(axes, METRICS):
+        data = [[r[key] for r in rows if label_of(r) == lab and r.get(key) is not None] for lab in labels]
+        ax.boxplot([d if d else [np.nan] for d in data], vert=False)
+        ax.set_yticks(range(1, len(labels) + 1), labels, fontsize=7)
+        ax.set_title(f"{label} [{unit}]", fontsize=9)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
 def _boxplots(records: List[dict], out: pathlib.Path) -> List[pathlib.Path]:
     """Per scenario: each metric's distribution over seeds per configuration; per grid parameter:
     the metric against the parameter's values (all scenarios pooled)."""
@@ -69,36 +84,17 @@ def _boxplots(records: List[dict], out: pathlib.Path) -> List[pathlib.Path]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     ok = [r for r in records if r.get("kind") == "estimate" and r.get("status") == "ok"]
-    written = []
     out.mkdir(parents=True, exist_ok=True)
+    written = []
     for scen in sorted({_scenario(r) for r in ok}):
         rs = [r for r in ok if _scenario(r) == scen]
-        cfgs = sorted({_config(r) for r in rs})
-        fig, axes = plt.subplots(1, len(METRICS), figsize=(4 * len(METRICS), 3.5 + 0.15 * len(cfgs)))
-        for ax, (key, label, unit) in zip(axes, METRICS):
-            data = [[r[key] for r in rs if _config(r) == c and r.get(key) is not None] for c in cfgs]
-            ax.boxplot([d if d else [np.nan] for d in data], vert=False)
-            ax.set_yticks(range(1, len(cfgs) + 1), cfgs, fontsize=7)
-            ax.set_title(f"{label} [{unit}]", fontsize=9)
-        fig.suptitle(f"{scen}: {len(rs)} runs")
-        fig.tight_layout()
         path = out / f"box_preset_{scen.replace(' ', '_')}.png"
-        fig.savefig(path, dpi=90)
-        plt.close(fig)
+        _box_figure(plt, rs, sorted({_config(r) for r in rs}), _config, f"{scen}: {len(rs)} runs", path)
         written.append(path)
     for param in sorted({k for r in ok for k in r if k.startswith("param.")}):
-        values = sorted({str(r[param]) for r in ok if param in r})
-        fig, axes = plt.subplots(1, len(METRICS), figsize=(4 * len(METRICS), 3.5))
-        for ax, (key, label, unit) in zip(axes, METRICS):
-            data = [[r[key] for r in ok if str(r.get(param)) == v and r.get(key) is not None] for v in values]
-            ax.boxplot([d if d else [np.nan] for d in data])
-            ax.set_xticks(range(1, len(values) + 1), values, fontsize=8)
-            ax.set_title(f"{label} [{unit}]", fontsize=9)
-        fig.suptitle(f"{param[6:]} (all scenarios)")
-        fig.tight_layout()
         path = out / f"box_param_{param[6:]}.png"
-        fig.savefig(path, dpi=90)
-        plt.close(fig)
+        _box_figure(plt, ok, sorted({yaml_scalar(r[param]) for r in ok if param in r}), lambda r: yaml_scalar(r.get(param)),
+                    f"{param[6:]} (all scenarios)", path)
         written.append(path)
     return written
 
