@@ -200,3 +200,22 @@ def test_missing_program_is_named(tmp_path, capsys):
     assert main(["run", str(spec), "--out", str(tmp_path / "out"), "--build-dir", str(tmp_path / "nobuild")]) == 2
     assert capsys.readouterr().err.strip() == \
         f"vid-batch: error: {tmp_path / 'nobuild' / 'bin' / 'vid_run'} not built (run scripts/build.sh or pass --build-dir)"
+
+
+def test_nees_task_reads_the_test_output(tmp_path):
+    """The NEES job's plumbing (no Ray, a stand-in test program): fractions parsed from the
+    test's line, a failing test is a failed record with those fractions in its error."""
+    from vid_eval.batch.tools import execute
+    exe = tmp_path / "build" / "tests" / "vio_core" / "vio_core_nees_sim_test"
+    exe.parent.mkdir(parents=True)
+    exe.write_text("#!/bin/sh\necho \"vid17_like dynamics: 20 runs x 60 s, band [2.3, 3.8]; "
+                   "inside: theta 0.950, p 0.931, F 0.902\"\n[ \"$1\" = --gtest_filter=NeesSim.Ok ] || exit 1\n")
+    exe.chmod(0o755)
+    ok = execute({"id": "nees_ok", "kind": "nees", "params": {"test": "NeesSim.Ok"}}, str(tmp_path / "out"),
+                 str(tmp_path / "build"))
+    assert ok["status"] == "ok"
+    assert (ok["nees_inside_theta"], ok["nees_inside_p"], ok["nees_inside_F"]) == (0.95, 0.931, 0.902)
+    bad = execute({"id": "nees_bad", "kind": "nees", "params": {"test": "NeesSim.Bad"}}, str(tmp_path / "out"),
+                  str(tmp_path / "build"))
+    assert bad["status"] == "failed" and "exited with 1" in bad["error"] and "theta 0.950" in bad["error"]
+    assert json.loads((tmp_path / "out" / "records" / "nees_bad.json").read_text())["status"] == "failed"
