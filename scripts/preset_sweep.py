@@ -28,7 +28,6 @@ import concurrent.futures as cf
 import json
 import os
 import pathlib
-import shutil
 import subprocess
 import sys
 import time
@@ -38,13 +37,7 @@ import numpy as np
 REPO = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "eval"))
 
-from vid_eval.ate import compute_ate  # noqa: E402
-from vid_eval.force_frames import newton_to_accel  # noqa: E402
-from vid_eval.force_response import force_response  # noqa: E402
-from vid_eval.gauge import fit_world_gauge, rotate_world  # noqa: E402
-from vid_eval.loaders import (find_mass_source, load_force_estimate, load_force_gt, load_mass,  # noqa: E402
-                              load_trajectory, load_vehicle_mass)
-from vid_eval.pairing import PairingOptions, pair_vectors  # noqa: E402
+from vid_eval.sim_runs import config_with_overrides, resolve_path, score_run, simulate  # noqa: E402
 
 
 def _bin(build: pathlib.Path, name: str) -> str:
@@ -60,76 +53,17 @@ def _config_dir(spec: str, work: pathlib.Path) -> tuple[str, pathlib.Path]:
         sys.exit(f"preset_sweep: error: --config '{spec}': expected NAME=DIR[:KEY=VALUE,...]")
     name, rest = spec.split("=", 1)
     folder, _, over = rest.partition(":")
-    src = (REPO / folder) if not os.path.isabs(folder) else pathlib.Path(folder)
+    src = resolve_path(folder)
     if not src.is_dir():
         sys.exit(f"preset_sweep: error: --config '{spec}': no folder {src}")
-    if not over:
-        return name, src
-    dst = work / f"config_{name}"
-    shutil.rmtree(dst, ignore_errors=True)
-    shutil.copytree(src, dst)
-    est = dst / "estimator.yaml"
-    text = est.read_text() if est.exists() else ""
-    for kv in over.split(","):
-        key, _, value = kv.partition("=")
-        text += f"\n{key.strip()}: {value.strip()}\n"
-    est.write_text(text)
-    return name, dst
-
-
-def _simulate(build, preset, seed, seq, images, noise_free, duration):
-    if (seq / "mav0" / "imu0" / "data.csv").exists():
-        return
-    cmd = [_bin(build, "vid_sim"), "--scenario", str(REPO / "config" / "sim" / f"{preset}.yaml"),
-           "--out", str(seq), "--seed", str(seed), "--quiet"]
-    if duration:
-        cmd += ["--duration", str(duration)]
-    if not images:
-        cmd.append("--features-only")
-    if noise_free:
-        cmd.append("--no-noise")
-    subprocess.run(cmd, check=True, capture_output=True, text=True)
-
-
-def _score(seq: pathlib.Path, run: pathlib.Path, skip_s: float) -> dict:
-    mav0 = seq / "mav0"
-    s = json.loads((run / "summary.json").read_text())
-    out = {"status": s.get("status"), "ate_m": s.get("ate_posyaw_m"),
-           "force_rmse_world": s.get("force_rmse_world_mps2"),
-           "force_rmse_body": s.get("force_rmse_body_mps2")}
-    acc = s.get("accel", {})
-    out["accel_rejected_fraction"] = acc.get("rejected_fraction",
-                                             s["counts"]["accel_rejected"] / max(1, s["counts"]["imu_samples"]))
-    out["accel_downweighted_fraction"] = acc.get("downweighted_fraction", 0.0)
-    out["force_jumps"] = acc.get("force_jumps", 0)
-    est_traj = load_trajectory(run / "trajectory_tum.txt")
-    gt_traj = load_trajectory(mav0 / "state_groundtruth_estimate0" / "data.csv")
-    ate = compute_ate(est_traj, gt_traj, "posyaw")
-    t_rel = (ate.est_aligned.t_ns - gt_traj.t_ns[0]) * 1e-9
-    late = t_rel > skip_s
-    out["att_err_max_deg"] = float(np.max(ate.rot_err_deg[late])) if late.any() else None
-    if (mav0 / "force0" / "data.csv").exists() and out["force_rmse_world"] is not None:
-        gt = load_force_gt(mav0 / "force0" / "data.csv")
-        src = find_mass_source(mav0 / "force0" / "data.csv")
-        mass = load_vehicle_mass(src) if src.suffix == ".yaml" else load_mass(src)
-        gt = newton_to_accel(gt, mass)
-        _, world = load_force_estimate(run / "force.csv")
-        world = rotate_world(world, fit_world_gauge(est_traj, gt_traj, "posyaw"))
-        pe, pg = pair_vectors(world, gt, PairingOptions())
-        r = force_response(pe, pg)
-        summ = r.summary()
-        out["lag_ms"] = None if r.lag is None else r.lag * 1e3
-        out["steps"] = summ["steps"]
-        out["settling_median_s"] = summ["settling_median_s"]
-        out["settling_max_s"] = summ["settling_max_s"]
-        out["not_settled"] = summ["not_settled"]
-    return out
+    overrides = dict(kv.partition("=")[::2] for kv in over.split(",")) if over else {}
+    return name, config_with_overrides(src, overrides, work / f"config_{name}")
 
 
 def _job(args, build, work, preset, seed, noise_free, configs):
     tag = f"{preset}_seed{seed}{'_nonoise' if noise_free else ''}{'_img' if args.images else ''}"
     seq = work / "seq" / tag
-    _simulate(build, preset, seed, seq, args.images, noise_free, args.duration)
+    simulate(_bin(build, "vid_sim"), preset, seed, seq, args.images, noise_free, args.duration)
     rows = []
     for name, cfg in configs:
         run = work / "run" / f"{tag}__{name}"
@@ -141,7 +75,7 @@ def _job(args, build, work, preset, seed, noise_free, configs):
         if proc.returncode != 0:
             row["error"] = proc.stderr.strip().splitlines()[-1] if proc.stderr.strip() else "vid_run failed"
         else:
-            row.update(_score(seq, run, args.skip))
+            row.update(score_run(seq, run, args.skip))
         rows.append(row)
         print(f"[sweep] {tag} {name}: " + ", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}"
                                                    for k, v in row.items() if k not in ("preset", "seed",

@@ -1,0 +1,1 @@
+"""vid-batch: batch evaluation on Ray."""
