@@ -268,3 +268,27 @@ def test_output_loads_in_cpp_reader(tmp_path, cpp_program):
         assert streams["imu0"]["first_ns"] == exp["imu0"][0][0]
         assert streams["imu0"]["last_ns"] == exp["imu0"][-1][0]
         assert streams["cam0"]["last_ns"] == exp["cam0"][-1][0]
+
+
+def test_rest_with_rotors_stopped_is_kept(tmp_path):
+    """Issue 29: a recording starts on the ground with the rotors stopped; the converter keeps it
+    whole (no trimming to the airborne part): zero-rpm rows from the first message on."""
+    bag = tmp_path / "ground.bag"
+    w = BagWriter(bag)
+    rpm = []
+    for k in range(200):  # 2 s at 100 Hz: 1 s at rest (0 rpm), then a spin-up ramp
+        t = T0 + k * 10_000_000
+        r = 0 if k < 100 else 50 * (k - 99)
+        rpm.append(r)
+        w.write("/camera/infra1/image_rect_raw", "sensor_msgs/msg/Image", t,
+                w.image(t, "mono8", np.full((2, 2), k % 256, np.uint8)))
+        w.write("/djiros/imu", "sensor_msgs/msg/Imu", t, w.imu(t, (0, 0, 0), (0, 0, 9.81)))
+        w.write("/m100withm3508/target_rpm", "uavmotor/msg/motordata", t, w.motordata(t, t, [r] * 4))
+    w.close()
+    out = tmp_path / "out"
+    assert main([str(bag), str(out), "--no-progress"]) == 0
+    got = numeric(out / "mav0" / "rotor0" / "data.csv")
+    assert got == [(T0 + k * 10_000_000, [r] * 4) for k, r in enumerate(rpm)]
+    assert sum(1 for _, v in got if v == [0, 0, 0, 0]) == 100
+    imu = numeric(out / "mav0" / "imu0" / "data.csv")
+    assert [t for t, _ in imu] == [T0 + k * 10_000_000 for k in range(200)]

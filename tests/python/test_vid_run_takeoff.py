@@ -95,3 +95,33 @@ def test_landed_force_and_attitude_meet_the_issue(tmp_path_factory):
         worst_att = max(worst_att, r["att_err_max_deg"])
     assert worst_landed <= 0.1, f"landed force error after 1 s: RMSE {worst_landed:.3f} m/s^2"
     assert worst_att <= 1.5, f"attitude error {worst_att:.2f} deg"
+
+
+def test_live_path_keeps_the_whole_recording(tmp_path_factory):
+    """The live path (vid_replay -> LCM event log -> vid_live) on the rendered run, rest to rest:
+    nothing is trimmed, the same estimates and flight-phase events as vid_run on the folder."""
+    from test_live import program, run as run_cmd
+
+    r = run(tmp_path_factory, 1, True)
+    work = tmp_path_factory.mktemp("takeoff_live")
+    log = work / "replay.log"
+    res = run_cmd([program("vid_replay"), "--dataset", r["seq"], "--lcm-url", "memq://", "--fast",
+                   "--log", log, "--quiet"])
+    assert res.returncode == 0, res.stderr
+    try:
+        res = run_cmd([program("vid_live"), "--lcm-url", f"file://{log}?speed=0", "--sensors", r["seq"],
+                       "--config", REPO / "config" / "sim", "--out", work / "live", "--quiet"])
+        assert res.returncode == 0, res.stderr
+    finally:
+        log.unlink()  # ~1 GB of raw images
+    import json
+    live = json.loads((work / "live" / "summary.json").read_text())
+    assert live["status"] == "ok" and live["input_end"] == "eof"
+    assert live["counts"]["imu_samples"] == r["summary"]["counts"]["imu_samples"]
+    assert live["flight_phase"]["events"] == r["summary"]["flight_phase"]["events"]
+    rows_live = tum_rows(work / "live" / "trajectory_tum.txt")
+    rows_run = tum_rows(r["out"] / "trajectory_tum.txt")
+    assert [x[0] for x in rows_live] == [x[0] for x in rows_run]
+    p_live = np.array([[float(v) for v in x[1:4]] for x in rows_live])
+    p_run = np.array([[float(v) for v in x[1:4]] for x in rows_run])
+    assert np.max(np.linalg.norm(p_live - p_run, axis=1)) < 1e-3
