@@ -50,6 +50,9 @@ const DoubleField kDoubles[] = {
     VID_FIELD(zero_velocity_max_parallax_px),
     VID_FIELD(zero_velocity_sigma),
     VID_FIELD(landed_zero_velocity_sigma),
+    VID_FIELD(health_window_s),
+    VID_FIELD(health_max_chi2_rejected_fraction),
+    VID_FIELD(health_starvation_s),
     VID_FIELD(init_window_s),
     VID_FIELD(init_accel_std_max),
     VID_FIELD(init_gyro_std_max),
@@ -70,6 +73,7 @@ const IntField kInts[] = {
     VID_FIELD(window_size),
     VID_FIELD(min_track_length),
     VID_FIELD(max_features_per_update),
+    VID_FIELD(health_min_tested_features),
     VID_FIELD(force_jump_window),
 };
 const BoolField kBools[] = {

@@ -250,6 +250,12 @@ void System::estimate_out(const EstimateOutput& e) {
 }
 
 void System::frame_out(const FrameTimings& ft) {
+  const bool starving = pipeline_->starving();
+  if (starving && !was_starving_ && ++starvation_warnings_ <= 10)
+    spdlog::warn("feature starvation at {} ns: no feature track reached an update for {} s, the IMU alone carries the estimate{}",
+                 ft.t_ns, p_.config.estimator.health_starvation_s,
+                 starvation_warnings_ == 10 ? " (further episodes are only counted: summary.json health)" : "");
+  was_starving_ = starving;
   TimingRow row;
   row.t_ns = ft.t_ns;
   if (auto it = tracking_ms_.find(ft.t_ns); it != tracking_ms_.end()) {
@@ -274,6 +280,7 @@ void System::close_outputs() {
 FilterStatus System::status() const { return pipeline_->status(); }
 const std::string& System::status_message() const { return pipeline_->status_message(); }
 FlightPhase System::flight_phase() const { return pipeline_->flight_phase(); }
+bool System::starving() const { return pipeline_->starving(); }
 int System::tracked_cameras() const { return frontend_ ? frontend_->cameras() : 0; }
 
 }  // namespace vid::system

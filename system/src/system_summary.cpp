@@ -1,5 +1,6 @@
 // System::summary(): summary.json's fields of a run (docs/formats.md §2), with the metrics
 // against the ground truth pushed.
+#include <algorithm>
 #include <cmath>
 
 #include "vid_system/system.h"
@@ -29,6 +30,9 @@ void add_counters(PipelineCounters& a, const PipelineCounters& b) {
   a.features_too_short += b.features_too_short;
   a.zero_velocity_updates += b.zero_velocity_updates;
   a.zero_velocity_updates_landed += b.zero_velocity_updates_landed;
+  a.starvation_episodes += b.starvation_episodes;
+  a.starved_s += b.starved_s;
+  a.max_chi2_rejected_fraction = std::max(a.max_chi2_rejected_fraction, b.max_chi2_rejected_fraction);
   a.observations_without_norm += b.observations_without_norm;
   a.landed_s += b.landed_s;
   a.airborne_s += b.airborne_s;
@@ -126,6 +130,9 @@ nlohmann::json System::summary() const {
                  {"zero_velocity_updates", c.zero_velocity_updates},
                  {"zero_velocity_updates_landed", c.zero_velocity_updates_landed}};
   if (restarts_ > 0) s["counts"]["estimator_restarts"] = restarts_;
+  s["health"] = {{"starvation_episodes", c.starvation_episodes},
+                 {"starved_s", c.starved_s},
+                 {"max_chi2_rejected_fraction", c.max_chi2_rejected_fraction}};
   s["accel"] = accel_report(c);
   if (dynamics()) s["flight_phase"] = flight_phase_report(c, pipeline_->flight_phase());
   s["timing"] = stage_times_.to_json();  // frontend + estimator stages; excludes image decoding

@@ -44,7 +44,8 @@ Pipeline::Pipeline(PipelineConfig config)
       thrust_(seconds_to_ns(config_.params.rotor_gap_s)),
       features_(std::make_unique<msckf::FeatureDatabase>()),
       jumps_(config_.params),
-      phase_(config_.params) {
+      phase_(config_.params),
+      health_(config_.params) {
   if (config_.params.mode == PropagationMode::kDynamics && !(config_.vehicle.mass_kg > 0.0)) {
     throw std::invalid_argument("dynamics mode needs vehicle mass_kg > 0");
   }
@@ -359,6 +360,7 @@ void Pipeline::process_frame(const FeatureFrame& f) {
         msckf::build_visual_update(tracks, clones, extrinsics, state_.P(), vp);
     tm.features_used += sys.features_used;
     tm.features_rejected += sys.features_rejected_chi2 + sys.features_rejected_triangulation;
+    tm.features_rejected_chi2 += sys.features_rejected_chi2;
     counters_.features_used += sys.features_used;
     counters_.features_rejected += sys.features_rejected_chi2 + sys.features_rejected_triangulation;
     counters_.features_rejected_chi2 += sys.features_rejected_chi2;
@@ -370,6 +372,7 @@ void Pipeline::process_frame(const FeatureFrame& f) {
     }
   }
   tm.msckf_update_ms = ms_since(t_frame);
+  check_health(f.t_ns, tm.features_used, tm.features_rejected_chi2, tm.features_rejected - tm.features_rejected_chi2);
 
   const auto t_marg = Clock::now();
   if (window_full) {
@@ -400,6 +403,17 @@ void Pipeline::zero_velocity_if_still(const msckf::ClonePose& oldest, const msck
   if (!zero_velocity_update(state_, sigma_mps)) return;
   ++counters_.zero_velocity_updates;
   if (landed) ++counters_.zero_velocity_updates_landed;
+}
+
+void Pipeline::check_health(TimeNs t, int used, int rejected_chi2, int untriangulated) {
+  const HealthVerdict v = health_.on_frame(t, used + rejected_chi2, rejected_chi2, untriangulated);
+  counters_.starvation_episodes = health_.starvation_episodes();
+  counters_.starved_s = health_.starved_s();
+  counters_.max_chi2_rejected_fraction = health_.max_rejected_fraction();
+  if (v.out_of_band && status_ == FilterStatus::kOk) {
+    status_ = FilterStatus::kDiverged;
+    status_message_ = v.message + " at t=" + std::to_string(t) + " ns";
+  }
 }
 
 void Pipeline::check_divergence(bool full) {

@@ -256,7 +256,7 @@ Health LiveEngine::health_locked() const {
   const FilterStatus st = session_->status();
   if (st == FilterStatus::kDiverged) return Health::kDiverged;
   if (st == FilterStatus::kWaitingForInit) return Health::kInitializing;
-  return stalled_ ? Health::kDegraded : Health::kTracking;
+  return stalled_ || session_->starving() ? Health::kDegraded : Health::kTracking;  // cameras quiet or no feature usable
 }
 
 void LiveEngine::publish_estimate(const system::System& s, const EstimateOutput& e) {

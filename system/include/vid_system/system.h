@@ -90,6 +90,8 @@ class System {
 
   // --- State and results ----------------------------------------------------------------------
   FilterStatus status() const;
+  /// @brief No feature track reached an update for health_starvation_s (vio_core/health_monitor.h).
+  bool starving() const;
   const std::string& status_message() const;
   /// @brief Landed / airborne now (vio_core/flight_phase.h; unknown in imu mode).
   FlightPhase flight_phase() const;
@@ -140,6 +142,8 @@ class System {
   long estimates_ = 0, frames_ = 0, feature_frames_ = 0, images_unreadable_ = 0, images_wrong_size_ = 0;
   int restarts_ = 0;
   int image_warnings_ = 0;
+  bool was_starving_ = false;    ///< the pipeline's starvation flag at the previous frame
+  int starvation_warnings_ = 0;  ///< episodes warned about (the first 10)
   std::vector<double> decode_ms_, tracking_cpu_ms_;
   double decode_cpu_ms_ = 0.0;
   double cpu_start_s_ = 0.0;

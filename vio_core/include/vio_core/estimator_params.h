@@ -127,6 +127,18 @@ struct EstimatorParams {
   /// (README "Flight phase").
   double landed_zero_velocity_sigma = 0.02;
 
+  // --- health (vio_core/health_monitor.h) ---
+  /// Window [s] over which the visual chi2 gate's rejections are counted.
+  double health_window_s = 1.0;
+  /// Diverged when at least this fraction of the features tested in the window fail the 95 %
+  /// gate (a consistent filter: ~5 %); 0 = off.
+  double health_max_chi2_rejected_fraction = 0.5;
+  /// ... and at least this many features were tested in the window (a fraction of few says little).
+  int health_min_tested_features = 30;
+  /// Starving after this long [s] without a feature track reaching an update while frames
+  /// arrive; 0 = off.
+  double health_starvation_s = 1.0;
+
   // --- initialization ---
   InitMode init_mode = InitMode::kStatic;
   double init_window_s = 0.5;            ///< averaging window for static/hover init

@@ -28,6 +28,7 @@
 #include "vio_core/calibration.h"
 #include "vio_core/estimator_params.h"
 #include "vio_core/flight_phase.h"
+#include "vio_core/health_monitor.h"
 #include "vio_core/force_jump.h"
 #include "vio_core/initializer.h"
 #include "vio_core/measurements.h"
@@ -78,6 +79,7 @@ struct FrameTimings {
   double marginalization_ms = 0.0;
   int features_used = 0;
   int features_rejected = 0;
+  int features_rejected_chi2 = 0;  ///< of features_rejected, by the chi2 gate (health_monitor.h)
   int clones = 0;
 };
 
@@ -130,6 +132,11 @@ struct PipelineCounters {
   double landed_s = 0.0;    ///< time classified landed (flight_phase.h) [s]
   double airborne_s = 0.0;  ///< time classified airborne [s]
   std::vector<FlightPhaseRecord> flight_phase_events;  ///< lift-offs and touchdowns
+  long starvation_episodes = 0;  ///< health_monitor.h: no feature used for health_starvation_s
+  double starved_s = 0.0;        ///< total time starving [s]
+  /// Largest fraction of tested features that failed the chi2 gate over one health window
+  /// (windows with at least health_min_tested_features); the out-of-band test's margin.
+  double max_chi2_rejected_fraction = 0.0;
 };
 
 /// @brief The estimator.
@@ -155,6 +162,8 @@ class Pipeline {
   FilterStatus status() const { return status_; }
   /// @brief Landed / airborne now (unknown before initialization and in imu mode).
   FlightPhase flight_phase() const { return phase_.phase(); }
+  /// @brief No feature track reached an update for health_starvation_s (health_monitor.h).
+  bool starving() const { return health_.starving(); }
   const std::string& status_message() const { return status_message_; }
   const FilterState& state() const { return state_; }
   const PipelineCounters& counters() const { return counters_; }
@@ -174,6 +183,7 @@ class Pipeline {
   void zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest, double sigma_mps,
                               bool landed);
   void check_divergence(bool full);
+  void check_health(TimeNs t, int used, int rejected_chi2, int untriangulated);  ///< health_monitor.h, per frame
   void emit(TimeNs t);
   void accel_step(const ImuInput& in);
   void record_rejected(TimeNs t);
@@ -201,6 +211,7 @@ class Pipeline {
   FlightPhaseClassifier phase_;
   TimeNs phase_time_ = 0;  ///< time of the last flight-phase update
   ParallaxWindow parallax_;  ///< cam0 frames of the clone window (zero-velocity test)
+  HealthMonitor health_;
   std::function<void(const EstimateOutput&)> on_estimate_;
   std::function<void(const FrameTimings&)> on_frame_;
 };
