@@ -22,7 +22,8 @@ TEST(HealthMonitor, ConsistentFilterStaysHealthy) {
 }
 
 TEST(HealthMonitor, InnovationsOutOfBandAfterTheWindowFills) {
-  EstimatorParams p;  // window 1 s, fraction 0.5, >= 30 tested
+  EstimatorParams p;  // window 1 s, >= 30 tested
+  p.health_max_chi2_rejected_fraction = 0.5;
   HealthMonitor m{p};
   for (int k = 0; k < 40; ++k) ASSERT_FALSE(m.on_frame(k * kFrameNs, 40, 2).out_of_band);
   // From frame 40 on, 30 of 40 fail the gate: the window's fraction crosses 0.5 once more than
