@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "app/cli.h"
 #include "app/run_main.h"
 #include "frontend/frontend_params_yaml.h"
 #include "track_session.h"
@@ -22,11 +23,7 @@ int main(int argc, char** argv) {
     cli.add_option("--draw", draw, "write PNGs with track trails and stereo matches here");
     cli.add_option("--draw-every", draw_every, "draw every n-th frame")->check(CLI::PositiveNumber);
     cli.add_flag("--no-gyro", no_gyro, "disable gyro-aided prediction");
-    try {
-      cli.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      return cli.exit(e);
-    }
+    if (const auto code = vid::app::parse_cli(cli, argc, argv)) return *code;
     vid::app::TrackOptions o;
     o.dataset = dataset;
     o.out_csv = out;

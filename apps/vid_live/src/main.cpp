@@ -6,6 +6,7 @@
 #include <atomic>
 #include <csignal>
 
+#include "app/cli.h"
 #include "app/run_main.h"
 #include "io/lcm/channels.h"
 #include "live/lcm_loop.h"
@@ -54,11 +55,7 @@ int main(int argc, char** argv) {
     app.add_option("--stall-s", stall_s, "no camera frame for this long (data time) counts as a camera stall [s]");
     app.add_option("--idle-timeout", idle_s, "live transports: stop after this long without messages [s] (0: never)");
     app.add_flag("--quiet", quiet, "warnings only");
-    try {
-      app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      return app.exit(e);
-    }
+    if (const auto code = vid::app::parse_cli(app, argc, argv)) return *code;
     if (quiet) spdlog::set_level(spdlog::level::warn);
 
     vid::live::LiveOptions opt;

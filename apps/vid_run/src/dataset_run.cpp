@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
-#include <fstream>
 #include <memory>
 #include <stdexcept>
 #include <vector>
 
+#include "app/data_window.h"
 #include "app/prefetch.h"
 #include "app/progress.h"
 #include "io/dataset_reader.h"
@@ -19,30 +19,6 @@ namespace vid::app {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-namespace {
-
-/// Timestamp of the last row of a CSV (read from its tail), for the progress bar's total.
-std::optional<TimeNs> last_timestamp(const fs::path& csv) {
-  std::ifstream f(csv, std::ios::binary | std::ios::ate);
-  if (!f) return std::nullopt;
-  const std::streamoff size = f.tellg();
-  const std::streamoff back = std::min<std::streamoff>(size, 4096);
-  f.seekg(size - back);
-  std::string tail(static_cast<std::size_t>(back), '\0');
-  f.read(tail.data(), back);
-  std::size_t end = tail.find_last_not_of("\r\n ");
-  if (end == std::string::npos) return std::nullopt;
-  const std::size_t start = tail.rfind('\n', end);
-  const std::string line = tail.substr(start == std::string::npos ? 0 : start + 1, end + 1);
-  try {
-    return static_cast<TimeNs>(std::stoll(line.substr(0, line.find(','))));
-  } catch (...) {
-    return std::nullopt;
-  }
-}
-
-}  // namespace
 
 RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   const auto wall_start = Clock::now();
@@ -69,6 +45,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   ro.skip_missing_images = true;  // a missing image skips its frame (counted), as an unreadable one does
   ro.read_images = source == system::FeatureSource::kImages;
   ro.read_features = source == system::FeatureSource::kFeat0;
+  check_dataset_window(opt.dataset, ro, opt.start_s, opt.end_s);
   io::DatasetReader reader(opt.dataset, ro);
   so.out_dir = opt.out_dir;
   so.config = opt.config;
@@ -84,7 +61,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   // all decoding falls inside the session's CPU-time window.
   PrefetchOptions po;
   po.start_s = opt.start_s;
-  po.end_s = opt.end_s;
+  po.end_s = opt.end_s.value_or(-1.0);
   po.decode_threads = std::max(0, opt.decode_threads);
   po.max_frames = static_cast<std::size_t>(std::max(4, 2 * po.decode_threads));
   po.capacity = 1024;  // IMU / rotor / truth rows between the frames ahead
@@ -108,7 +85,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
     if (!t0) {
       t0 = p->t0;
       const TimeNs t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
-      const TimeNs t_end = opt.end_s >= 0.0 ? *t0 + static_cast<TimeNs>(opt.end_s * 1e9) : INT64_MAX;
+      const TimeNs t_end = opt.end_s ? *t0 + static_cast<TimeNs>(*opt.end_s * 1e9) : INT64_MAX;
       const double total_s = t_last_data ? ns_to_s(std::min(*t_last_data, t_end) - t_start) : 1.0;
       if (opt.progress) bar = std::make_unique<ProgressBar>("vid_run", total_s);
       t_first_used = t_start;

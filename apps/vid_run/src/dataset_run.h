@@ -22,7 +22,7 @@ struct RunOptions {
   std::optional<InitMode> init;          ///< default: the config's init_mode
   system::FeatureSource features = system::FeatureSource::kAuto;
   double start_s = 0.0;                  ///< relative to the first measurement
-  double end_s = -1.0;                   ///< <0: to the end
+  std::optional<double> end_s;           ///< none: to the end
   bool progress = true;
   /// Threads decoding images ahead of the frontend (plus one reading the files); 0: read and
   /// decode inline on the estimator thread. Outputs are the same either way.

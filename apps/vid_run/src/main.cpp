@@ -6,6 +6,7 @@
 #include <atomic>
 #include <csignal>
 
+#include "app/cli.h"
 #include "app/run_main.h"
 #include "dataset_run.h"
 
@@ -38,11 +39,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 8));
     bool quiet = false;
     app.add_flag("--quiet", quiet, "no progress bar, warnings only");
-    try {
-      app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      return app.exit(e);
-    }
+    if (const auto code = vid::app::parse_cli(app, argc, argv)) return *code;
     if (!config.empty()) opt.config = config;
     if (!mode.empty()) opt.mode = vid::mode_from_string(mode);
     if (!init.empty()) opt.init = vid::init_mode_from_string(init);
