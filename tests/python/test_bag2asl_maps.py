@@ -128,7 +128,7 @@ def test_compressed_image_and_bag_time_stamp(tmp_path):
                     "  cam0: {kind: image, topic: /cam0/image_raw}\n"
                     "  imu0: {kind: imu, topic: /imu, stamp: bag, accel_scale: 2.0}\n")
     out = tmp_path / "out"
-    assert main([str(bag), str(out), "--topics", str(tmap), "--mass", "1", "--no-progress"]) == 0
+    assert main([str(bag), str(out), "--topics", str(tmap), "--mass", "1", "--no-progress", "--allow-no-rotors"]) == 0
     np.testing.assert_array_equal(png(out / "mav0" / "cam0" / "data" / f"{T0}.png"), px)
     assert numeric(out / "mav0" / "imu0" / "data.csv") == [(T0 + 77, [1.0, 2.0, 3.0, 8.0, 10.0, 12.0])]
 
@@ -200,5 +200,5 @@ def test_custom_imu_type_read_by_its_fields(tmp_path):
     tmap = tmp_path / "map.yaml"
     tmap.write_text("streams:\n  cam0: {kind: image, topic: /cam0/image_raw}\n  imu0: {kind: imu, topic: /vendor/imu}\n")
     out = tmp_path / "out"
-    assert main([str(bag), str(out), "--topics", str(tmap), "--mass", "1", "--no-progress"]) == 0
+    assert main([str(bag), str(out), "--topics", str(tmap), "--mass", "1", "--no-progress", "--allow-no-rotors"]) == 0
     assert numeric(out / "mav0" / "imu0" / "data.csv") == vals
