@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     std::string dataset;
     bool json = false;
     vid::io::ReaderOptions options;
+    options.max_gap_periods = 0.0;  // a summary: gaps are reported (largest gap per stream), not errors
     cli.add_option("DATASET", dataset, "dataset folder (SEQ or SEQ/mav0)")->required();
     cli.add_flag("--json", json, "machine-readable JSON on stdout");
     cli.add_flag("--drop-bad-timestamps", options.drop_bad_timestamps,

@@ -56,6 +56,8 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   ro.read_features = false;
   ro.read_groundtruth = false;
   ro.skip_missing_images = true;
+  ro.gaps_as_warnings = true;  // published as recorded: the receiver meets the gap and reports it
+  ro.warn = [](const std::string& w) { spdlog::warn("{}", w); };
   app::check_dataset_window(opt.dataset, ro, opt.start_s, opt.end_s);
   io::DatasetReader reader(opt.dataset, ro);
   const std::string rotor_unit = reader.calibration().rotor ? reader.calibration().rotor->unit : "rpm";

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
+#include <exception>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -42,9 +43,12 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
     throw std::runtime_error(opt.dataset.string() + ": the dataset has neither cam0/data.csv images nor feat0/data.csv");
 
   io::ReaderOptions ro;
-  ro.skip_missing_images = true;  // a missing image skips its frame (counted), as an unreadable one does
+  ro.list_missing_images = true;  // the session skips a frame with a missing image, as with an unreadable one
   ro.read_images = source == system::FeatureSource::kImages;
   ro.read_features = source == system::FeatureSource::kFeat0;
+  ro.max_gap_periods = opt.max_gap_periods;
+  ro.gaps_as_warnings = opt.allow_gaps;
+  ro.warn = [](const std::string& w) { spdlog::warn("{}", w); };
   check_dataset_window(opt.dataset, ro, opt.start_s, opt.end_s);
   io::DatasetReader reader(opt.dataset, ro);
   so.out_dir = opt.out_dir;
@@ -54,6 +58,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   so.features = source;
   so.context = opt.dataset.string();
   system::System session(system::make_system_params(so, reader.calibration()));
+  session.frame_faults().set_strict(opt.strict);
 
   // Decode-ahead: a reader thread and opt.decode_threads decoders fill a queue a few camera
   // frames ahead while this thread runs frontend + estimator; the session gets the same
@@ -76,46 +81,55 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   bool interrupted = false, diverged = false;
   double decode_cpu_pushed_ms = 0.0;
 
-  while (auto p = prefetch.next()) {
-    if (stop.load()) {
-      interrupted = true;
-      break;
+  // A data error mid-run (a CSV row, a bad frame under --strict) still closes the outputs and
+  // writes summary.json (status "error") before it ends the program.
+  std::exception_ptr error;
+  std::string error_message;
+  try {
+    while (auto p = prefetch.next()) {
+      if (stop.load()) {
+        interrupted = true;
+        break;
+      }
+      const TimeNs t = stamp_of(p->m);
+      if (!t0) {
+        t0 = p->t0;
+        const TimeNs t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
+        const TimeNs t_end = opt.end_s ? *t0 + static_cast<TimeNs>(*opt.end_s * 1e9) : INT64_MAX;
+        const double total_s = t_last_data ? ns_to_s(std::min(*t_last_data, t_end) - t_start) : 1.0;
+        if (opt.progress) bar = std::make_unique<ProgressBar>("vid_run", total_s);
+        t_first_used = t_start;
+      }
+      t_last_used = t;
+      if (const auto* img = std::get_if<ImageFrame>(&p->m)) {
+        session.push_decoded(*img, p->images, p->decode_ms, p->decode_cpu_ms);
+        decode_cpu_pushed_ms += p->decode_cpu_ms;
+      } else {
+        session.push(p->m);
+      }
+      if (session.status() == FilterStatus::kDiverged) {
+        diverged = true;
+        spdlog::error("estimator diverged at t = {:.3f} s: {}", ns_to_s(t - *t0), session.status_message());
+        break;
+      }
+      if (bar) {
+        const double elapsed = std::chrono::duration<double>(Clock::now() - wall_start).count();
+        const double data_s = ns_to_s(t - t_first_used);
+        const long frames = session.camera_frames() + session.feature_frames();
+        bar->update(data_s, fmt::format("{:.0f} frames/s, {:.1f}x real time", frames / std::max(elapsed, 1e-3),
+                                        data_s / std::max(elapsed, 1e-3)));
+      }
     }
-    const TimeNs t = stamp_of(p->m);
-    if (!t0) {
-      t0 = p->t0;
-      const TimeNs t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
-      const TimeNs t_end = opt.end_s ? *t0 + static_cast<TimeNs>(*opt.end_s * 1e9) : INT64_MAX;
-      const double total_s = t_last_data ? ns_to_s(std::min(*t_last_data, t_end) - t_start) : 1.0;
-      if (opt.progress) bar = std::make_unique<ProgressBar>("vid_run", total_s);
-      t_first_used = t_start;
-    }
-    t_last_used = t;
-    if (const auto* img = std::get_if<ImageFrame>(&p->m)) {
-      session.push_decoded(*img, p->images, p->decode_ms, p->decode_cpu_ms);
-      decode_cpu_pushed_ms += p->decode_cpu_ms;
-    } else {
-      session.push(p->m);
-    }
-    if (session.status() == FilterStatus::kDiverged) {
-      diverged = true;
-      spdlog::error("estimator diverged at t = {:.3f} s: {}", ns_to_s(t - *t0), session.status_message());
-      break;
-    }
-    if (bar) {
-      const double elapsed = std::chrono::duration<double>(Clock::now() - wall_start).count();
-      const double data_s = ns_to_s(t - t_first_used);
-      const long frames = session.camera_frames() + session.feature_frames();
-      bar->update(data_s, fmt::format("{:.0f} frames/s, {:.1f}x real time", frames / std::max(elapsed, 1e-3),
-                                      data_s / std::max(elapsed, 1e-3)));
-    }
+  } catch (const std::exception& e) {
+    error = std::current_exception();
+    error_message = e.what();
   }
   // Stop and join the decoders before the CPU totals are read; frames decoded ahead but never
   // used (interrupted run) still count as decoding, not as frontend + estimator time.
   prefetch.stop();
   const PrefetchStats prefetch_stats = prefetch.stats();
   session.add_unused_decode_cpu_ms(std::max(0.0, prefetch_stats.decode_cpu_ms - decode_cpu_pushed_ms));
-  if (!interrupted && !diverged) session.finish();
+  if (!interrupted && !diverged && !error) session.finish();
   if (session.status() == FilterStatus::kDiverged) diverged = true;
   session.close_outputs();
   if (bar) bar->finish();
@@ -124,12 +138,14 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   const double data_s = ns_to_s(t_last_used - t_first_used);
   nlohmann::json s = session.summary();
   s["dataset"] = fs::absolute(opt.dataset).string();
-  if (interrupted) s["status"] = "interrupted";
-  else if (diverged) s["status"] = "diverged";
-  std::size_t images_missing = 0;
-  for (const auto& st : reader.stats())
-    if (st.name.rfind("cam", 0) == 0) images_missing += st.dropped;
-  s["counts"]["images_missing"] = images_missing;
+  if (error) {
+    s["status"] = "error";
+    s["status_message"] = error_message;
+  } else if (interrupted) {
+    s["status"] = "interrupted";
+  } else if (diverged) {
+    s["status"] = "diverged";
+  }
   s["decode_ahead"] = {{"decode_threads", po.decode_threads},
                        {"frames_ahead", po.decode_threads > 0 ? po.max_frames : 0},
                        {"frames_decoded", prefetch_stats.frames_decoded},
@@ -140,6 +156,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   const double cpu_s = s["cpu"]["process_cpu_s"].get<double>();
   s["cpu"]["real_time_factor_cpu"] = cpu_s > 0.0 ? data_s / cpu_s : 0.0;
   system::write_summary(opt.out_dir, s);
+  if (error) std::rethrow_exception(error);
 
   const long frames = session.camera_frames() + session.feature_frames();
   spdlog::info("{}: {} estimates, {} frames, {:.1f} s of data in {:.1f} s ({:.1f}x real time), status {}",
