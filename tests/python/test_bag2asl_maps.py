@@ -16,7 +16,7 @@ from PIL import Image
 from test_bag2asl_helpers import numeric, png, rows
 from vid_eval.bag2asl import calib, images, png as pngenc, topicmap
 from vid_eval.bag2asl.cli import main
-from vid_eval.bag2asl.errors import ConfigError, UnknownTypeError
+from vid_eval.bag2asl.errors import UnknownTypeError, UsageError
 from vid_eval.bag2asl.groundtruth import quat_rotate
 from vid_eval.bag2asl.synthetic import BagWriter
 
@@ -166,7 +166,7 @@ def test_mass_rule(tmp_path):
     assert m("my_flight_1234.5g_load100g_10s.bag") == (1.3345, "file name (1234.5g+load100g)")
     mass, source = m("channel_1.bag")
     assert mass == 3.1015 and source.startswith("preset default")
-    with pytest.raises(ConfigError):
+    with pytest.raises(UsageError):  # a command-line value: exit 2
         m("x.bag", -1.0)
 
 

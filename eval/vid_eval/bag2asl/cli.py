@@ -1,7 +1,8 @@
 """vid-bag2asl BAG OUT [--topics FILE] [--start S] [--end S] [--mass KG] ...
 
 Errors print one line on stderr ("vid-bag2asl: error: ...") and exit with status 1
-(2 for command-line usage errors, 130 on Ctrl-C).
+(2 for command-line usage errors, also --start/--end outside the bag or --mass <= 0; 130 on
+Ctrl-C).
 """
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import pathlib
 import sys
 
 from .convert import Options, convert
-from .errors import Bag2AslError
+from .errors import Bag2AslError, UsageError
 from ..usage import OneLineParser
 
 
@@ -61,7 +62,7 @@ def main(argv=None) -> int:
         convert(opts)
     except Bag2AslError as err:
         print(f"vid-bag2asl: error: {err}", file=sys.stderr)
-        return 1
+        return 2 if isinstance(err, UsageError) else 1
     except KeyboardInterrupt:
         print("vid-bag2asl: interrupted", file=sys.stderr)
         return 130

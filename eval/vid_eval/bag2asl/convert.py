@@ -10,7 +10,7 @@ import yaml
 
 from .bagio import Bag, short_type
 from .calib import DEFAULT_PRESET, Preset, mass_for, write_camera_yaml, write_imu_yaml, write_rotor_yaml, write_vehicle_yaml
-from .errors import ConfigError, MissingTopicError, UnknownTypeError
+from .errors import ConfigError, MissingTopicError, UnknownTypeError, UsageError
 from .extract import ForceHandler, ImageHandler, ImuHandler, RotorHandler, ThrustHandler
 from .groundtruth import GroundTruthHandler
 from .progress import Progress
@@ -99,14 +99,23 @@ def _require_rotors(tmap, profile: str, resolved, bag: Bag, allowed: bool) -> No
 
 
 def _window(bag: Bag, opts: Options) -> tuple[int | None, int | None]:
+    """--start/--end as bag times; negative, empty or outside the bag: a usage error stating
+    the bag's span (the rule of the C++ programs' --start/--end, vid::app::check_window)."""
+    span_s = (bag.end_ns - bag.start_ns) * 1e-9
+    span = f"{bag.path}: the bag spans 0 to {span_s:.3f} s"
     start = stop = None
     if opts.start_s is not None:
         if opts.start_s < 0:
-            raise ConfigError(f"--start: expected seconds >= 0 from the bag start, got {opts.start_s}")
+            raise UsageError(f"--start {opts.start_s:g}: negative ({span})")
+        if opts.start_s >= span_s:
+            raise UsageError(f"--start {opts.start_s:g}: past the end of the bag ({span})")
         start = bag.start_ns + int(round(opts.start_s * 1e9))
     if opts.end_s is not None:
         if opts.end_s <= (opts.start_s or 0.0):
-            raise ConfigError(f"--end: must be after --start (got {opts.end_s})")
+            raise UsageError(f"--end {opts.end_s:g}: not after --start {opts.start_s or 0:g}, the selection is "
+                             f"empty ({span})")
+        if opts.end_s > span_s + 1.0:  # a margin: --end is often a rounded duration
+            raise UsageError(f"--end {opts.end_s:g}: past the end of the bag ({span})")
         stop = bag.start_ns + int(round(opts.end_s * 1e9))
     return start, stop
 
