@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/progress.h"
+#include "app/cli.h"
 #include "app/run_main.h"
 #include "io/dataset_reader.h"
 #include "summary.h"
@@ -17,17 +18,14 @@ int main(int argc, char** argv) {
     std::string dataset;
     bool json = false;
     vid::io::ReaderOptions options;
+    options.max_gap_periods = 0.0;  // a summary: gaps are reported (largest gap per stream), not errors
     cli.add_option("DATASET", dataset, "dataset folder (SEQ or SEQ/mav0)")->required();
     cli.add_flag("--json", json, "machine-readable JSON on stdout");
     cli.add_flag("--drop-bad-timestamps", options.drop_bad_timestamps,
                  "drop non-monotonic/duplicate rows (counted) instead of failing");
     cli.add_flag("--skip-missing-images", options.skip_missing_images,
                  "skip listed images that are missing (counted) instead of failing");
-    try {
-      cli.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      return cli.exit(e);
-    }
+    if (const auto code = vid::app::parse_cli(cli, argc, argv)) return *code;
 
     vid::io::DatasetReader reader(dataset, options);
     vid::app::ProgressBar bar("vid_info", 1.0);

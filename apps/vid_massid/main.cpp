@@ -3,6 +3,7 @@
 /// run the methods, write the tables and plots.
 #include <CLI/CLI.hpp>
 
+#include "app/cli.h"
 #include "app/run_main.h"
 #include "commands.h"
 
@@ -16,11 +17,7 @@ int main(int argc, char** argv) {
     vid::massid_app::add_generate_command(cli, &exit_code);
     vid::massid_app::add_run_report_commands(cli, &exit_code);
     vid::massid_app::add_elm_study_command(cli, &exit_code);
-    try {
-      cli.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      return cli.exit(e);
-    }
+    if (const auto code = vid::app::parse_cli(cli, argc, argv)) return *code;
     return exit_code;
   });
 }

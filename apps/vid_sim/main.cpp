@@ -11,6 +11,7 @@
 #include <string>
 
 #include "app/progress.h"
+#include "app/cli.h"
 #include "app/run_main.h"
 #include "sim/dataset_sink.h"
 #include "sim/scenario.h"
@@ -35,11 +36,7 @@ int main(int argc, char** argv) {
     cli.add_flag("--features-only", features_only, "write feat0 + landmarks.csv, no images");
     cli.add_flag("--no-noise", no_noise, "turn every sensor noise and random walk off");
     cli.add_flag("--quiet", quiet, "no log output");
-    try {
-      cli.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      return cli.exit(e);
-    }
+    if (const auto code = vid::app::parse_cli(cli, argc, argv)) return *code;
     if (quiet) spdlog::set_level(spdlog::level::warn);
 
     vid::sim::Scenario sc = vid::sim::load_scenario(scenario_file);
@@ -59,9 +56,7 @@ int main(int argc, char** argv) {
         sc.initial_heading_deg = std::stod(heading, &used);
         if (used != heading.size()) throw std::invalid_argument(heading);
       } catch (const std::exception&) {
-        std::fprintf(stderr, "vid_sim: error: --initial-heading: expected degrees or 'random', got '%s'\n",
-                     heading.c_str());
-        return 2;
+        throw vid::app::UsageError("--initial-heading: expected degrees or 'random', got '" + heading + "'");
       }
       sc.initial_heading_random = false;
     }

@@ -6,19 +6,15 @@
 #include <variant>
 
 #include "app/progress.h"
+#include "frontend/image_decode.h"
 #include "frontend/klt_tracker.h"
 #include "frontend/track_drawing.h"
 #include "io/dataset_reader.h"
+#include "vid_system/frame_faults.h"
 #include "vid_system/frontend_stage.h"
 
 namespace vid::app {
 namespace {
-
-cv::Mat read_gray(const std::string& path) {
-  cv::Mat img = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  if (img.empty()) throw io::DatasetError(path + ": cannot decode image");
-  return img;
-}
 
 struct CsvFile {
   std::FILE* f = nullptr;
@@ -36,6 +32,7 @@ TrackSummary run_tracking(const TrackOptions& o) {
   io::ReaderOptions ropt;
   ropt.read_features = false;
   ropt.read_groundtruth = false;
+  ropt.list_missing_images = true;  // a missing image skips its frame (FrameFaults), as an unreadable one does
   io::DatasetReader reader(o.dataset, ropt);
   const auto& cams = reader.calibration().cameras;
   if (cams.empty()) throw io::DatasetError(reader.mav0().string() + ": no camN/sensor.yaml found");
@@ -53,6 +50,8 @@ TrackSummary run_tracking(const TrackOptions& o) {
   std::fprintf(csv.f, "#timestamp [ns],cam_id,feature_id,u [px],v [px]\n");
   ProgressBar bar("vid_track", 1.0);
   TrackSummary s;
+  system::FrameFaults faults;
+  faults.set_strict(o.strict);
   double sum_ms = 0, sum_feat = 0, sum_stereo = 0;
   while (auto m = reader.next()) {
     if (const auto* imu = std::get_if<ImuSample>(&*m)) {
@@ -62,10 +61,15 @@ TrackSummary run_tracking(const TrackOptions& o) {
     const auto* frame = std::get_if<ImageFrame>(&*m);
     if (!frame) continue;
     cv::Mat left, right;
+    bool usable = true;
     for (const auto& ref : frame->images) {
-      if (ref.cam_id == cams[0].cam_id) left = read_gray(ref.path);
-      if (stereo && ref.cam_id == cams[1].cam_id) right = read_gray(ref.path);
+      const int k = ref.cam_id == cams[0].cam_id ? 0 : stereo && ref.cam_id == cams[1].cam_id ? 1 : -1;
+      if (k < 0) continue;
+      cv::Mat g = decode_gray8(ref.path);
+      if (!system::check_frame_image(g, ref.path, cams[k].width, cams[k].height, faults)) usable = false;
+      (k == 0 ? left : right) = g;
     }
+    if (!usable) continue;       // skipped: warned and counted (or thrown under strict)
     if (left.empty()) continue;  // a right-only timestamp: nothing to track
     const FeatureFrame ff = frontend.track(frame->t_ns, left, right);
     for (const auto& ob : ff.observations) {
@@ -96,6 +100,8 @@ TrackSummary run_tracking(const TrackOptions& o) {
     bar.update(reader.progress(), extra);
   }
   bar.finish();
+  faults.report_rest();
+  s.frames_skipped = static_cast<std::size_t>(faults.total());
   if (s.frames > 0) {
     s.mean_ms = sum_ms / static_cast<double>(s.frames);
     s.mean_features = sum_feat / static_cast<double>(s.frames);

@@ -17,11 +17,13 @@ struct TrackOptions {
   std::optional<std::filesystem::path> draw_dir;
   FrontendParams params;
   std::size_t draw_every = 1;  ///< draw every n-th frame
+  bool strict = false;         ///< a missing, unreadable or wrong-size image is an error, not a skipped frame
 };
 
 /// @brief Totals of a run.
 struct TrackSummary {
   std::size_t frames = 0;
+  std::size_t frames_skipped = 0;  ///< missing, unreadable or wrong-size images (warned)
   std::size_t observations = 0;
   double mean_features = 0.0;
   double mean_stereo = 0.0;

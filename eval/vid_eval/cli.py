@@ -13,13 +13,14 @@ from typing import List, Optional
 from . import __version__
 from .commands import bound, force, mass, report, traj
 from .errors import VidEvalError
+from .usage import OneLineParser
 
 EXIT_INPUT_ERROR = 1
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with all sub-commands."""
-    p = argparse.ArgumentParser(
+    p = OneLineParser(
         prog="vid-eval",
         description="Evaluate VID-MSCKF (or any estimator's) outputs: trajectory ATE/RPE, "
                     "external force, mass; plots and comparison tables.")

@@ -1,5 +1,7 @@
 #include "stream_cursors.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <utility>
@@ -7,9 +9,41 @@
 namespace vid::io::detail {
 
 // ---------------------------------------------------------------------------------------------
-TimedRows::TimedRows(const std::filesystem::path& path, std::string name, const ReaderOptions& options)
-    : csv_(path), drop_(options.drop_bad_timestamps) {
+TimedRows::TimedRows(const std::filesystem::path& path, std::string name, const ReaderOptions& options,
+                     bool check_gaps)
+    : csv_(path),
+      drop_(options.drop_bad_timestamps),
+      max_gap_periods_(check_gaps ? options.max_gap_periods : 0.0),
+      gaps_warn_(options.gaps_as_warnings),
+      warn_(options.warn) {
   stats_.name = std::move(name);
+}
+
+void TimedRows::check_gap(TimeNs gap, std::size_t line) {
+  if (max_gap_periods_ <= 0.0 || gap <= 0) return;
+  if (period_ == 0) {
+    first_gaps_.emplace_back(gap, line);
+    if (first_gaps_.size() < kPeriodSamples) return;
+    std::vector<TimeNs> g;
+    for (const auto& [d, l] : first_gaps_) g.push_back(d);
+    std::nth_element(g.begin(), g.begin() + static_cast<std::ptrdiff_t>(g.size() / 2), g.end());
+    period_ = g[g.size() / 2];
+    auto first = std::move(first_gaps_);
+    first_gaps_.clear();
+    for (const auto& [d, l] : first) check_gap(d, l);
+    return;
+  }
+  if (static_cast<double>(gap) <= max_gap_periods_ * static_cast<double>(period_)) return;
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "line %zu: time gap of %.3f s after the previous row, more than %g sample periods of %.3f ms", line,
+                ns_to_s(gap), max_gap_periods_, ns_to_s(period_) * 1e3);
+  if (!gaps_warn_) {
+    throw DatasetError(csv_.path().string() + ": " + text +
+                       " (vid_run --allow-gaps only warns, --max-gap-periods N moves the bound)");
+  }
+  ++stats_.gaps_over_bound;
+  if (warn_) warn_(csv_.path().string() + ": " + text);
 }
 
 bool TimedRows::next(std::size_t columns, TimeNs* t, bool allow_equal, std::size_t alt_columns) {
@@ -29,6 +63,7 @@ bool TimedRows::next(std::size_t columns, TimeNs* t, bool allow_equal, std::size
       csv_.fail("timestamps not sorted: " + std::to_string(ts) + " is before the previous row's " +
                 std::to_string(last_) + prev);
     }
+    if (have_last_) check_gap(ts - last_, csv_.line());
     have_last_ = true;
     last_ = ts;
     last_line_ = csv_.line();
@@ -71,7 +106,10 @@ class RowCursor final : public Cursor {
  public:
   RowCursor(const std::filesystem::path& csv, const std::string& name, std::size_t columns, std::size_t alt_columns,
             RowParser parser, const ReaderOptions& options)
-      : rows_(csv, name, options), columns_(columns), alt_columns_(alt_columns), parser_(std::move(parser)) {
+      : rows_(csv, name, options, /*check_gaps=*/name == "imu0" || name == "rotor0" || name == "thrust0"),
+        columns_(columns),
+        alt_columns_(alt_columns),
+        parser_(std::move(parser)) {
     advance();
     rows_.require_rows();
   }
@@ -104,8 +142,9 @@ class CameraRows {
   CameraRows(const std::filesystem::path& mav0, int cam_id, const ReaderOptions& options)
       : cam_id_(cam_id),
         image_dir_(mav0 / ("cam" + std::to_string(cam_id)) / "data"),
-        rows_(mav0 / ("cam" + std::to_string(cam_id)) / "data.csv", "cam" + std::to_string(cam_id), options),
-        skip_missing_(options.skip_missing_images) {
+        rows_(mav0 / ("cam" + std::to_string(cam_id)) / "data.csv", "cam" + std::to_string(cam_id), options, true),
+        skip_missing_(options.skip_missing_images),
+        list_missing_(options.list_missing_images) {
     advance();
     rows_.require_rows();
   }
@@ -128,11 +167,9 @@ class CameraRows {
       std::filesystem::path p = image_dir_ / std::string(name);
       std::error_code ec;
       if (!std::filesystem::is_regular_file(p, ec)) {
-        if (skip_missing_) {
-          rows_.count_missing_image();
-          continue;
-        }
-        rows_.csv().fail("image file missing: " + p.string());
+        if (skip_missing_ || list_missing_) rows_.count_missing_image();
+        if (skip_missing_ && !list_missing_) continue;
+        if (!list_missing_) rows_.csv().fail("image file missing: " + p.string());
       }
       has_head_ = true;
       t_ = t;
@@ -147,6 +184,7 @@ class CameraRows {
   std::filesystem::path image_dir_;
   TimedRows rows_;
   bool skip_missing_;
+  bool list_missing_;
   bool has_head_ = false;
   TimeNs t_ = 0;
   std::string path_;
@@ -198,7 +236,7 @@ class CameraCursor final : public Cursor {
 class FeatureCursor final : public Cursor {
  public:
   FeatureCursor(const std::filesystem::path& csv, std::set<int> calibrated, const ReaderOptions& options)
-      : rows_(csv, "feat0", options), calibrated_(std::move(calibrated)), drop_(options.drop_bad_timestamps) {
+      : rows_(csv, "feat0", options, true), calibrated_(std::move(calibrated)), drop_(options.drop_bad_timestamps) {
     read_pending();
     advance();
     rows_.require_rows();

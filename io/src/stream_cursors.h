@@ -19,7 +19,9 @@ namespace vid::io::detail {
 /// drop-with-count), stats (count, span, largest gap).
 class TimedRows {
  public:
-  TimedRows(const std::filesystem::path& path, std::string name, const ReaderOptions& options);
+  /// @param check_gaps  a sensor stream: apply ReaderOptions::max_gap_periods to it
+  TimedRows(const std::filesystem::path& path, std::string name, const ReaderOptions& options,
+            bool check_gaps = false);
   /// @brief Next row with exactly @p columns fields (or @p alt_columns when nonzero) whose
   /// timestamp passes the order check (strictly after the last accepted one, or equal when
   /// @p allow_equal). False at end.
@@ -44,6 +46,15 @@ class TimedRows {
   TimeNs last_ = 0;
   std::size_t last_line_ = 0;
   bool have_recorded_ = false;
+  /// Gap check: the period is the median of the first kPeriodSamples positive intervals, which
+  /// are checked once it is known, every later one as it comes.
+  void check_gap(TimeNs gap, std::size_t line);
+  static constexpr std::size_t kPeriodSamples = 16;
+  double max_gap_periods_ = 0.0;
+  bool gaps_warn_ = false;
+  std::function<void(const std::string&)> warn_;
+  TimeNs period_ = 0;
+  std::vector<std::pair<TimeNs, std::size_t>> first_gaps_;  ///< (interval, line) until period_ is known
 };
 
 /// @brief A stream of the merge: its pending measurement and statistics.

@@ -73,7 +73,8 @@ double thread_cpu_ms() {
 void write_summary(const std::filesystem::path& out_dir, const nlohmann::json& summary) {
   const auto path = out_dir / "summary.json";
   std::ofstream f(path);
-  f << summary.dump(2) << "\n";
+  // Messages quoted from bad input may hold invalid UTF-8: replaced, so the summary is still written.
+  f << summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
   f.flush();
   if (!f) throw std::runtime_error(path.string() + ": write failed");
 }

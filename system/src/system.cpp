@@ -158,16 +158,7 @@ void System::push_decoded(const ImageFrame& frame, const std::vector<std::pair<i
       throw std::logic_error(ref.path + ": decoded images do not match the frame's image list");
     const cv::Mat& g = images[k++].second;
     const CameraCalib& cam = cameras.at(std::min<std::size_t>(ref.cam_id, cameras.size() - 1));
-    if (g.empty()) {
-      ++images_unreadable_;
-      warn_image(ref.path + ": unreadable image, frame skipped");
-      ok = false;
-    } else if (g.cols != cam.width || g.rows != cam.height) {
-      ++images_wrong_size_;
-      warn_image(fmt::format("{}: image is {}x{}, calibration says {}x{}; frame skipped", ref.path, g.cols, g.rows,
-                             cam.width, cam.height));
-      ok = false;
-    }
+    if (!check_frame_image(g, ref.path, cam.width, cam.height, faults_)) ok = false;
     (ref.cam_id == 0 ? left : right) = g;
   }
   if (ok && !left.empty()) track(frame.t_ns, left, right);
@@ -184,22 +175,16 @@ void System::push(const StereoFrame& frame) {
     if (g.empty()) continue;
     const CameraCalib& cam = cameras.at(std::min<std::size_t>(cam_id, cameras.size() - 1));
     if (g.type() != CV_8UC1) {
-      ++images_unreadable_;
-      warn_image(fmt::format("camera {} image at {} ns is not 8-bit mono; frame skipped", cam_id, frame.t_ns));
+      faults_.skip(FrameFault::kUnreadable,
+                   fmt::format("camera {} image at {} ns: unreadable image (not 8-bit mono)", cam_id, frame.t_ns));
       ok = false;
     } else if (g.cols != cam.width || g.rows != cam.height) {
-      ++images_wrong_size_;
-      warn_image(fmt::format("camera {} image at {} ns: image is {}x{}, calibration says {}x{}; frame skipped", cam_id,
-                             frame.t_ns, g.cols, g.rows, cam.width, cam.height));
+      faults_.skip(FrameFault::kWrongSize, fmt::format("camera {} image at {} ns: image is {}x{}, calibration says {}x{}",
+                                                       cam_id, frame.t_ns, g.cols, g.rows, cam.width, cam.height));
       ok = false;
     }
   }
   if (ok && !frame.left.empty()) track(frame.t_ns, frame.left, frame.right);
-}
-
-void System::warn_image(const std::string& msg) {
-  if (++image_warnings_ <= 10) spdlog::warn("{}", msg);
-  if (image_warnings_ == 10) spdlog::warn("further warnings of this kind are only counted (see summary.json)");
 }
 
 // Frontend: KLT tracks of a checked frame become the pipeline's feature frame.
@@ -274,6 +259,7 @@ void System::frame_out(const FrameTimings& ft) {
 }
 
 void System::close_outputs() {
+  faults_.report_rest();
   if (outputs_) outputs_->close();
 }
 

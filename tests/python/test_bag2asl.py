@@ -229,7 +229,7 @@ def test_non_increasing_stamps_dropped_and_counted(tmp_path):
                 w.image(t, "mono8", np.full((2, 2), i, np.uint8)))
     w.close()
     out = tmp_path / "out"
-    assert main([str(bag), str(out), "--mass", "2.5", "--no-progress"]) == 0
+    assert main([str(bag), str(out), "--mass", "2.5", "--no-progress", "--allow-no-rotors"]) == 0
     assert [t for t, _ in numeric(out / "mav0" / "imu0" / "data.csv")] == [T0, T0 + 10, T0 + 20]
     assert [v[0] for _, v in numeric(out / "mav0" / "imu0" / "data.csv")] == [0.0, 1.0, 4.0]
     summary = yaml.safe_load((out / "bag2asl.yaml").read_text())

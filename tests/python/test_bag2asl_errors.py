@@ -16,7 +16,7 @@ from vid_eval.bag2asl.synthetic import BagWriter
 T0 = 1_650_000_000_000_000_000
 
 
-def small_bag(path: pathlib.Path, compression: str = "none", n: int = 200, extra=None) -> pathlib.Path:
+def small_bag(path: pathlib.Path, compression: str = "none", n: int = 200, extra=None, rotors=True) -> pathlib.Path:
     w = BagWriter(path, compression=compression)
     rng = np.random.default_rng(3)
     for k in range(n):
@@ -24,6 +24,8 @@ def small_bag(path: pathlib.Path, compression: str = "none", n: int = 200, extra
         w.write("/djiros/imu", "sensor_msgs/msg/Imu", t, w.imu(t, rng.normal(size=3), (0, 0, 9.81)))
         w.write("/camera/infra1/image_rect_raw", "sensor_msgs/msg/Image", t,
                 w.image(t, "mono8", rng.integers(0, 256, (60, 80), dtype=np.uint8)))
+        if rotors:
+            w.write("/m100withm3508/target_rpm", "uavmotor/msg/motordata", t, w.motordata(t, t, [3000] * 4))
     if extra:
         extra(w)
     w.close()
@@ -75,7 +77,7 @@ def test_unsupported_image_encoding(tmp_path, capsys):
     w.write("/camera/infra1/image_rect_raw", "sensor_msgs/msg/Image", T0,
             w.image(T0, "bayer_rggb8", np.zeros((2, 2), np.uint8)))
     w.close()
-    err = run_error(capsys, [str(bag), str(tmp_path / "out")])
+    err = run_error(capsys, [str(bag), str(tmp_path / "out"), "--allow-no-rotors"])
     assert "image encoding 'bayer_rggb8' not supported" in err and "mono16" in err
 
 
@@ -141,6 +143,25 @@ def test_bad_topic_map_names_file_and_line(tmp_path, capsys):
     tmap.write_text("streams:\n  cam0: {kind: camera, topics: [/a]}\n")
     err = run_error(capsys, [str(bag), str(tmp_path / "out"), "--topics", str(tmap)])
     assert f"{tmap}: default.streams.cam0.kind: expected one of" in err
+
+
+def test_bag_without_rotors_needs_the_flag(tmp_path, capsys):
+    """No rotor-speed topic: one line naming the topics looked for; --allow-no-rotors converts."""
+    bag = small_bag(tmp_path / "b.bag", n=2, rotors=False)
+    err = run_error(capsys, [str(bag), str(tmp_path / "out")])
+    assert "no rotor speeds in the bag (rotor0 needs /m100withm3508/m3508_m1+" in err
+    assert "/m100withm3508/target_rpm" in err and "--allow-no-rotors" in err
+    assert main([str(bag), str(tmp_path / "out"), "--no-progress", "--mass", "1", "--allow-no-rotors"]) == 0
+    assert not (tmp_path / "out" / "mav0" / "rotor0").exists()
+
+
+def test_jobs_must_be_positive(capsys):
+    for bad in ("0", "-2", "x"):
+        with pytest.raises(SystemExit) as e:
+            main(["a.bag", "out", "--jobs", bad])
+        assert e.value.code == 2
+        err = capsys.readouterr().err.strip()
+        assert err.startswith("vid-bag2asl: error: argument --jobs: expected a whole number >= 1") and "\n" not in err
 
 
 def test_existing_output_needs_overwrite(tmp_path, capsys):

@@ -16,7 +16,7 @@ from PIL import Image
 from test_bag2asl_helpers import numeric, png, rows
 from vid_eval.bag2asl import calib, images, png as pngenc, topicmap
 from vid_eval.bag2asl.cli import main
-from vid_eval.bag2asl.errors import ConfigError, UnknownTypeError
+from vid_eval.bag2asl.errors import UnknownTypeError, UsageError
 from vid_eval.bag2asl.groundtruth import quat_rotate
 from vid_eval.bag2asl.synthetic import BagWriter
 
@@ -128,7 +128,7 @@ def test_compressed_image_and_bag_time_stamp(tmp_path):
                     "  cam0: {kind: image, topic: /cam0/image_raw}\n"
                     "  imu0: {kind: imu, topic: /imu, stamp: bag, accel_scale: 2.0}\n")
     out = tmp_path / "out"
-    assert main([str(bag), str(out), "--topics", str(tmap), "--mass", "1", "--no-progress"]) == 0
+    assert main([str(bag), str(out), "--topics", str(tmap), "--mass", "1", "--no-progress", "--allow-no-rotors"]) == 0
     np.testing.assert_array_equal(png(out / "mav0" / "cam0" / "data" / f"{T0}.png"), px)
     assert numeric(out / "mav0" / "imu0" / "data.csv") == [(T0 + 77, [1.0, 2.0, 3.0, 8.0, 10.0, 12.0])]
 
@@ -166,7 +166,7 @@ def test_mass_rule(tmp_path):
     assert m("my_flight_1234.5g_load100g_10s.bag") == (1.3345, "file name (1234.5g+load100g)")
     mass, source = m("channel_1.bag")
     assert mass == 3.1015 and source.startswith("preset default")
-    with pytest.raises(ConfigError):
+    with pytest.raises(UsageError):  # a command-line value: exit 2
         m("x.bag", -1.0)
 
 
@@ -200,5 +200,5 @@ def test_custom_imu_type_read_by_its_fields(tmp_path):
     tmap = tmp_path / "map.yaml"
     tmap.write_text("streams:\n  cam0: {kind: image, topic: /cam0/image_raw}\n  imu0: {kind: imu, topic: /vendor/imu}\n")
     out = tmp_path / "out"
-    assert main([str(bag), str(out), "--topics", str(tmap), "--mass", "1", "--no-progress"]) == 0
+    assert main([str(bag), str(out), "--topics", str(tmap), "--mass", "1", "--no-progress", "--allow-no-rotors"]) == 0
     assert numeric(out / "mav0" / "imu0" / "data.csv") == vals

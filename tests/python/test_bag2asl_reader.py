@@ -144,7 +144,7 @@ def test_truncated_chunk_names_offset(tmp_path, capsys):
     patch_u32(data, len_pos, len(data))  # chunk claims more bytes than the file has
     bad = tmp_path / "bad.bag"
     bad.write_bytes(bytes(data))
-    err = run_error(capsys, [str(bad), str(tmp_path / "out")])
+    err = run_error(capsys, [str(bad), str(tmp_path / "out"), "--allow-no-rotors"])  # a bag without rotors
     assert f"{bad}: corrupt or truncated bag: truncated record at byte {pos}" in err
 
 
@@ -163,7 +163,7 @@ def test_truncated_message_record_names_chunk_and_offset(tmp_path, capsys):
     patch_u32(data, datapos + inner + 4 + hlen, 10**8)
     bad = tmp_path / "bad.bag"
     bad.write_bytes(bytes(data))
-    err = run_error(capsys, [str(bad), str(tmp_path / "out")])
+    err = run_error(capsys, [str(bad), str(tmp_path / "out"), "--allow-no-rotors"])
     assert (f"{bad}: corrupt or truncated bag: truncated record in chunk at byte {pos}, "
             f"offset {inner} in the decompressed chunk") in err
 

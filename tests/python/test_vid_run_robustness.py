@@ -55,7 +55,7 @@ def test_bad_images_skip_their_frame(rendered, tmp_path):
     assert s["counts"]["images_unreadable"] == 1
     assert s["counts"]["images_wrong_size"] == 1
     assert s["counts"]["frames_skipped_bad_image"] == 2
-    assert "unreadable image, frame skipped" in r.stderr
+    assert "unreadable image (not a decodable image" in r.stderr and "libpng" not in r.stderr
     assert "image is 320x240, calibration says 640x480; frame skipped" in r.stderr
     # The skipped frames are not tracked: two fewer timing rows than camera frames.
     assert s["timing"]["tracking"]["count"] <= s["counts"]["camera_frames"] - 2
@@ -65,11 +65,43 @@ def test_bad_images_skip_their_frame(rendered, tmp_path):
 def test_missing_image_file_is_counted(rendered, tmp_path):
     bad = link_copy(rendered, tmp_path / "missing")
     cam0 = image_rows(bad, "cam0")
-    (bad / "mav0" / "cam0" / "data" / cam0[10][1].strip()).unlink()
+    missing = bad / "mav0" / "cam0" / "data" / cam0[10][1].strip()
+    missing.unlink()
     out = tmp_path / "run"
     r = vid_run(bad, out, "--config", str(REPO / "config" / "sim"), "--end", "3")
     assert r.returncode == 0, r.stderr
     assert summary(out)["counts"]["images_missing"] == 1
+    assert r.stderr.splitlines() == [f"vid_run: warning: {missing}: missing image file; frame skipped"]
+
+
+def test_many_bad_frames_sum_up_in_one_line(rendered, tmp_path):
+    """Past 5 skipped frames the rest are one line at the end, with the counts."""
+    bad = link_copy(rendered, tmp_path / "bad")
+    cam0 = image_rows(bad, "cam0")
+    for k in range(10, 30, 2):
+        (bad / "mav0" / "cam0" / "data" / cam0[k][1].strip()).unlink()
+    out = tmp_path / "run"
+    r = vid_run(bad, out, "--config", str(REPO / "config" / "sim"), "--end", "3")
+    assert r.returncode == 0, r.stderr
+    lines = r.stderr.splitlines()
+    assert len(lines) == 6 and all("missing image file; frame skipped" in line for line in lines[:5]), r.stderr
+    assert "10 camera frames skipped in all, 5 more than warned above (10 missing, 0 unreadable" in lines[5]
+    assert summary(out)["counts"]["images_missing"] == 10
+
+
+def test_strict_makes_a_bad_frame_an_error_and_keeps_outputs(rendered, tmp_path):
+    bad = link_copy(rendered, tmp_path / "bad")
+    cam0 = image_rows(bad, "cam0")
+    victim = bad / "mav0" / "cam0" / "data" / cam0[60][1].strip()
+    replace_file(victim, png_bytes(320, 240))
+    out = tmp_path / "run"
+    r = vid_run(bad, out, "--config", str(REPO / "config" / "sim"), "--strict")
+    assert r.returncode == 1
+    assert r.stderr.splitlines() == [f"vid_run: error: {victim}: image is 320x240, calibration says 640x480 "
+                                     "(--strict: a bad camera frame is an error)"]
+    s = summary(out)
+    assert s["status"] == "error" and str(victim) in s["status_message"]
+    assert len(tum_rows(out / "trajectory_tum.txt")) > 100  # estimates before frame 60 are kept
 
 
 @pytest.mark.parametrize("how", [["--mode", "dynamics"], ["--config", "vid_dataset"]])

@@ -5,9 +5,12 @@
 
 #include <atomic>
 #include <csignal>
+#include <optional>
 
+#include "app/cli.h"
 #include "app/run_main.h"
 #include "io/lcm/channels.h"
+#include "live/lcm_input.h"
 #include "live/lcm_loop.h"
 #include "live/live_engine.h"
 #include "live/sensor_files.h"
@@ -54,12 +57,14 @@ int main(int argc, char** argv) {
     app.add_option("--stall-s", stall_s, "no camera frame for this long (data time) counts as a camera stall [s]");
     app.add_option("--idle-timeout", idle_s, "live transports: stop after this long without messages [s] (0: never)");
     app.add_flag("--quiet", quiet, "warnings only");
-    try {
-      app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      return app.exit(e);
-    }
+    if (const auto code = vid::app::parse_cli(app, argc, argv)) return *code;
     if (quiet) spdlog::set_level(spdlog::level::warn);
+    vid::live::check_lcm_url(url, "--lcm-url", /*for_input=*/true);
+    if (!publish_url.empty()) vid::live::check_lcm_url(publish_url, "--publish-url", /*for_input=*/false);
+    // A log is walked before LCM reads it: not a log is an error now, a cut one after its last
+    // whole event.
+    std::optional<vid::live::LogScan> log_scan;
+    if (vid::live::is_log_url(url)) log_scan = vid::live::scan_lcm_log(vid::live::log_path(url));
 
     vid::live::LiveOptions opt;
     if (!sensors.empty()) opt.calibration = vid::live::load_sensor_files(sensors);
@@ -102,8 +107,13 @@ int main(int argc, char** argv) {
     const std::string end = vid::live::run_lcm_loop(
         input, url, [&] { return g_stop.load() || engine.failed(); }, idle_s, engine.message_count());
     engine.finish();  // throws (one-line error, exit 1) when the estimator stopped on an error
-    engine.write_summary({{"input_end", end}});  // eof | stopped (SIGINT/SIGTERM) | idle
+    const bool cut = end == "eof" && log_scan && log_scan->whole_bytes < log_scan->size;
+    engine.write_summary({{"input_end", cut ? "cut" : end}});  // eof | cut | stopped (SIGINT/SIGTERM) | idle
     const auto s = engine.summary();
+    if (cut)
+      throw std::runtime_error(fmt::format("{}: log cut mid-event at byte {} of {}; read the {} whole events before it",
+                                           vid::live::log_path(url), log_scan->whole_bytes, log_scan->size,
+                                           log_scan->events));
     spdlog::info("input ended ({}): {} states published, health {}, {} re-initializations", end,
                  engine.published_states(), s["health"].get<std::string>(), s["reinit_count"].get<int>());
     return end == "stopped" ? 130 : 0;

@@ -7,6 +7,7 @@
 #include <csignal>
 #include <fstream>
 
+#include "app/cli.h"
 #include "app/run_main.h"
 #include "replay/replay.h"
 
@@ -52,14 +53,10 @@ int main(int argc, char** argv) {
     app.add_option("--report", report, "write what was published and every injected fault as JSON");
     bool quiet = false;
     app.add_flag("--quiet", quiet, "no progress bar, warnings only");
-    try {
-      app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      return app.exit(e);
-    }
+    if (const auto code = vid::app::parse_cli(app, argc, argv)) return *code;
     opt.dataset = dataset;
     if (stall.size() == 2) {
-      if (stall[0] < 0.0 || stall[1] <= 0.0) throw std::runtime_error("--camera-stall: START >= 0 and DURATION > 0 expected");
+      if (stall[0] < 0.0 || stall[1] <= 0.0) throw vid::app::UsageError("--camera-stall: START >= 0 and DURATION > 0 expected");
       f.stall_start_s = stall[0];
       f.stall_s = stall[1];
     }

@@ -12,6 +12,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "app/data_window.h"
 #include "app/prefetch.h"
 #include "app/progress.h"
 #include "io/csv_reader.h"
@@ -55,6 +56,9 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   ro.read_features = false;
   ro.read_groundtruth = false;
   ro.skip_missing_images = true;
+  ro.gaps_as_warnings = true;  // published as recorded: the receiver meets the gap and reports it
+  ro.warn = [](const std::string& w) { spdlog::warn("{}", w); };
+  app::check_dataset_window(opt.dataset, ro, opt.start_s, opt.end_s);
   io::DatasetReader reader(opt.dataset, ro);
   const std::string rotor_unit = reader.calibration().rotor ? reader.calibration().rotor->unit : "rpm";
 
@@ -186,7 +190,7 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
 
   app::PrefetchOptions po;  // one thread reads and decodes ahead of the publishing schedule
   po.start_s = opt.start_s;
-  po.end_s = opt.end_s;
+  po.end_s = opt.end_s.value_or(-1.0);
   po.decode_threads = 1;
   po.capacity = 256;
   app::Prefetcher prefetch(reader, po);
@@ -198,7 +202,7 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     if (!t0) {
       t0 = p->t0;
       t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
-      if (opt.end_s >= 0.0) t_end = *t0 + static_cast<TimeNs>(opt.end_s * 1e9);
+      if (opt.end_s) t_end = *t0 + static_cast<TimeNs>(*opt.end_s * 1e9);
       if (opt.progress) bar = std::make_unique<app::ProgressBar>("vid_replay", 1.0);
       if (fo.malformed > 0 || opt.progress) plan_malformed(t_start, t_end);
       if (fo.stall_start_s >= 0.0 && fo.stall_s > 0.0) {

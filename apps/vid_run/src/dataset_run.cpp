@@ -5,11 +5,12 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
-#include <fstream>
+#include <exception>
 #include <memory>
 #include <stdexcept>
 #include <vector>
 
+#include "app/data_window.h"
 #include "app/prefetch.h"
 #include "app/progress.h"
 #include "io/dataset_reader.h"
@@ -19,30 +20,6 @@ namespace vid::app {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-namespace {
-
-/// Timestamp of the last row of a CSV (read from its tail), for the progress bar's total.
-std::optional<TimeNs> last_timestamp(const fs::path& csv) {
-  std::ifstream f(csv, std::ios::binary | std::ios::ate);
-  if (!f) return std::nullopt;
-  const std::streamoff size = f.tellg();
-  const std::streamoff back = std::min<std::streamoff>(size, 4096);
-  f.seekg(size - back);
-  std::string tail(static_cast<std::size_t>(back), '\0');
-  f.read(tail.data(), back);
-  std::size_t end = tail.find_last_not_of("\r\n ");
-  if (end == std::string::npos) return std::nullopt;
-  const std::size_t start = tail.rfind('\n', end);
-  const std::string line = tail.substr(start == std::string::npos ? 0 : start + 1, end + 1);
-  try {
-    return static_cast<TimeNs>(std::stoll(line.substr(0, line.find(','))));
-  } catch (...) {
-    return std::nullopt;
-  }
-}
-
-}  // namespace
 
 RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   const auto wall_start = Clock::now();
@@ -66,9 +43,13 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
     throw std::runtime_error(opt.dataset.string() + ": the dataset has neither cam0/data.csv images nor feat0/data.csv");
 
   io::ReaderOptions ro;
-  ro.skip_missing_images = true;  // a missing image skips its frame (counted), as an unreadable one does
+  ro.list_missing_images = true;  // the session skips a frame with a missing image, as with an unreadable one
   ro.read_images = source == system::FeatureSource::kImages;
   ro.read_features = source == system::FeatureSource::kFeat0;
+  ro.max_gap_periods = opt.max_gap_periods;
+  ro.gaps_as_warnings = opt.allow_gaps;
+  ro.warn = [](const std::string& w) { spdlog::warn("{}", w); };
+  check_dataset_window(opt.dataset, ro, opt.start_s, opt.end_s);
   io::DatasetReader reader(opt.dataset, ro);
   so.out_dir = opt.out_dir;
   so.config = opt.config;
@@ -77,6 +58,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   so.features = source;
   so.context = opt.dataset.string();
   system::System session(system::make_system_params(so, reader.calibration()));
+  session.frame_faults().set_strict(opt.strict);
 
   // Decode-ahead: a reader thread and opt.decode_threads decoders fill a queue a few camera
   // frames ahead while this thread runs frontend + estimator; the session gets the same
@@ -84,7 +66,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   // all decoding falls inside the session's CPU-time window.
   PrefetchOptions po;
   po.start_s = opt.start_s;
-  po.end_s = opt.end_s;
+  po.end_s = opt.end_s.value_or(-1.0);
   po.decode_threads = std::max(0, opt.decode_threads);
   po.max_frames = static_cast<std::size_t>(std::max(4, 2 * po.decode_threads));
   po.capacity = 1024;  // IMU / rotor / truth rows between the frames ahead
@@ -99,46 +81,55 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   bool interrupted = false, diverged = false;
   double decode_cpu_pushed_ms = 0.0;
 
-  while (auto p = prefetch.next()) {
-    if (stop.load()) {
-      interrupted = true;
-      break;
+  // A data error mid-run (a CSV row, a bad frame under --strict) still closes the outputs and
+  // writes summary.json (status "error") before it ends the program.
+  std::exception_ptr error;
+  std::string error_message;
+  try {
+    while (auto p = prefetch.next()) {
+      if (stop.load()) {
+        interrupted = true;
+        break;
+      }
+      const TimeNs t = stamp_of(p->m);
+      if (!t0) {
+        t0 = p->t0;
+        const TimeNs t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
+        const TimeNs t_end = opt.end_s ? *t0 + static_cast<TimeNs>(*opt.end_s * 1e9) : INT64_MAX;
+        const double total_s = t_last_data ? ns_to_s(std::min(*t_last_data, t_end) - t_start) : 1.0;
+        if (opt.progress) bar = std::make_unique<ProgressBar>("vid_run", total_s);
+        t_first_used = t_start;
+      }
+      t_last_used = t;
+      if (const auto* img = std::get_if<ImageFrame>(&p->m)) {
+        session.push_decoded(*img, p->images, p->decode_ms, p->decode_cpu_ms);
+        decode_cpu_pushed_ms += p->decode_cpu_ms;
+      } else {
+        session.push(p->m);
+      }
+      if (session.status() == FilterStatus::kDiverged) {
+        diverged = true;
+        spdlog::error("estimator diverged at t = {:.3f} s: {}", ns_to_s(t - *t0), session.status_message());
+        break;
+      }
+      if (bar) {
+        const double elapsed = std::chrono::duration<double>(Clock::now() - wall_start).count();
+        const double data_s = ns_to_s(t - t_first_used);
+        const long frames = session.camera_frames() + session.feature_frames();
+        bar->update(data_s, fmt::format("{:.0f} frames/s, {:.1f}x real time", frames / std::max(elapsed, 1e-3),
+                                        data_s / std::max(elapsed, 1e-3)));
+      }
     }
-    const TimeNs t = stamp_of(p->m);
-    if (!t0) {
-      t0 = p->t0;
-      const TimeNs t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
-      const TimeNs t_end = opt.end_s >= 0.0 ? *t0 + static_cast<TimeNs>(opt.end_s * 1e9) : INT64_MAX;
-      const double total_s = t_last_data ? ns_to_s(std::min(*t_last_data, t_end) - t_start) : 1.0;
-      if (opt.progress) bar = std::make_unique<ProgressBar>("vid_run", total_s);
-      t_first_used = t_start;
-    }
-    t_last_used = t;
-    if (const auto* img = std::get_if<ImageFrame>(&p->m)) {
-      session.push_decoded(*img, p->images, p->decode_ms, p->decode_cpu_ms);
-      decode_cpu_pushed_ms += p->decode_cpu_ms;
-    } else {
-      session.push(p->m);
-    }
-    if (session.status() == FilterStatus::kDiverged) {
-      diverged = true;
-      spdlog::error("estimator diverged at t = {:.3f} s: {}", ns_to_s(t - *t0), session.status_message());
-      break;
-    }
-    if (bar) {
-      const double elapsed = std::chrono::duration<double>(Clock::now() - wall_start).count();
-      const double data_s = ns_to_s(t - t_first_used);
-      const long frames = session.camera_frames() + session.feature_frames();
-      bar->update(data_s, fmt::format("{:.0f} frames/s, {:.1f}x real time", frames / std::max(elapsed, 1e-3),
-                                      data_s / std::max(elapsed, 1e-3)));
-    }
+  } catch (const std::exception& e) {
+    error = std::current_exception();
+    error_message = e.what();
   }
   // Stop and join the decoders before the CPU totals are read; frames decoded ahead but never
   // used (interrupted run) still count as decoding, not as frontend + estimator time.
   prefetch.stop();
   const PrefetchStats prefetch_stats = prefetch.stats();
   session.add_unused_decode_cpu_ms(std::max(0.0, prefetch_stats.decode_cpu_ms - decode_cpu_pushed_ms));
-  if (!interrupted && !diverged) session.finish();
+  if (!interrupted && !diverged && !error) session.finish();
   if (session.status() == FilterStatus::kDiverged) diverged = true;
   session.close_outputs();
   if (bar) bar->finish();
@@ -147,12 +138,14 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   const double data_s = ns_to_s(t_last_used - t_first_used);
   nlohmann::json s = session.summary();
   s["dataset"] = fs::absolute(opt.dataset).string();
-  if (interrupted) s["status"] = "interrupted";
-  else if (diverged) s["status"] = "diverged";
-  std::size_t images_missing = 0;
-  for (const auto& st : reader.stats())
-    if (st.name.rfind("cam", 0) == 0) images_missing += st.dropped;
-  s["counts"]["images_missing"] = images_missing;
+  if (error) {
+    s["status"] = "error";
+    s["status_message"] = error_message;
+  } else if (interrupted) {
+    s["status"] = "interrupted";
+  } else if (diverged) {
+    s["status"] = "diverged";
+  }
   s["decode_ahead"] = {{"decode_threads", po.decode_threads},
                        {"frames_ahead", po.decode_threads > 0 ? po.max_frames : 0},
                        {"frames_decoded", prefetch_stats.frames_decoded},
@@ -163,6 +156,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   const double cpu_s = s["cpu"]["process_cpu_s"].get<double>();
   s["cpu"]["real_time_factor_cpu"] = cpu_s > 0.0 ? data_s / cpu_s : 0.0;
   system::write_summary(opt.out_dir, s);
+  if (error) std::rethrow_exception(error);
 
   const long frames = session.camera_frames() + session.feature_frames();
   spdlog::info("{}: {} estimates, {} frames, {:.1f} s of data in {:.1f} s ({:.1f}x real time), status {}",

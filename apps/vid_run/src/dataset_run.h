@@ -22,8 +22,15 @@ struct RunOptions {
   std::optional<InitMode> init;          ///< default: the config's init_mode
   system::FeatureSource features = system::FeatureSource::kAuto;
   double start_s = 0.0;                  ///< relative to the first measurement
-  double end_s = -1.0;                   ///< <0: to the end
+  std::optional<double> end_s;           ///< none: to the end
   bool progress = true;
+  /// A camera frame with a missing, unreadable or wrong-size image is an error (default: the
+  /// frame is skipped with a warning and counted).
+  bool strict = false;
+  /// A sensor-stream gap longer than this many sample periods is a load-time error (0: off) ...
+  double max_gap_periods = 100.0;
+  /// ... or, with allow_gaps, one warning line per gap (the estimator bridges it as usual).
+  bool allow_gaps = false;
   /// Threads decoding images ahead of the frontend (plus one reading the files); 0: read and
   /// decode inline on the estimator thread. Outputs are the same either way.
   int decode_threads = 1;

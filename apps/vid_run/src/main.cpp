@@ -6,6 +6,7 @@
 #include <atomic>
 #include <csignal>
 
+#include "app/cli.h"
 #include "app/run_main.h"
 #include "dataset_run.h"
 
@@ -36,13 +37,17 @@ int main(int argc, char** argv) {
     app.add_option("--decode-threads", opt.decode_threads,
                    "threads decoding images ahead of the frontend; 0: decode inline (default 1)")
         ->check(CLI::Range(0, 8));
+    app.add_flag("--strict", opt.strict,
+                 "a missing, unreadable or wrong-size camera image is an error (exit 1, outputs so far kept) "
+                 "instead of a skipped frame (one warning, counted in summary.json)");
+    app.add_option("--max-gap-periods", opt.max_gap_periods,
+                   "a time gap in imu0, rotor0, thrust0, camN or feat0 longer than this many sample periods is an "
+                   "error naming file and line (default 100; 0: no check)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_flag("--allow-gaps", opt.allow_gaps, "such a gap is a warning instead of an error");
     bool quiet = false;
     app.add_flag("--quiet", quiet, "no progress bar, warnings only");
-    try {
-      app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-      return app.exit(e);
-    }
+    if (const auto code = vid::app::parse_cli(app, argc, argv)) return *code;
     if (!config.empty()) opt.config = config;
     if (!mode.empty()) opt.mode = vid::mode_from_string(mode);
     if (!init.empty()) opt.init = vid::init_mode_from_string(init);

@@ -8,7 +8,7 @@ import re
 import numpy as np
 import yaml
 
-from .errors import ConfigError
+from .errors import ConfigError, UsageError
 from . import sinks
 from .sinks import fmt, os_error
 
@@ -68,7 +68,7 @@ def mass_for(bag_path: pathlib.Path, flag: float | None, preset: Preset) -> tupl
     any 'load<grams>g'; else the preset's vehicle.yaml mass (with a warning by the caller)."""
     if flag is not None:
         if not flag > 0:
-            raise ConfigError(f"--mass: expected a positive mass in kg, got {flag}")
+            raise UsageError(f"--mass: expected a positive mass in kg, got {flag}")
         return float(flag), "--mass"
     name = bag_path.name
     stem = name[:-4] if name.endswith(".bag") else name

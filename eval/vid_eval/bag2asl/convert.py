@@ -10,7 +10,7 @@ import yaml
 
 from .bagio import Bag, short_type
 from .calib import DEFAULT_PRESET, Preset, mass_for, write_camera_yaml, write_imu_yaml, write_rotor_yaml, write_vehicle_yaml
-from .errors import ConfigError, UnknownTypeError
+from .errors import ConfigError, MissingTopicError, UnknownTypeError, UsageError
 from .extract import ForceHandler, ImageHandler, ImuHandler, RotorHandler, ThrustHandler
 from .groundtruth import GroundTruthHandler
 from .progress import Progress
@@ -44,6 +44,7 @@ class Options:
     jobs: int = 2
     overwrite: bool = False
     progress: bool | None = None
+    allow_no_rotors: bool = False
 
 
 def _check_types(bag: Bag, resolved) -> None:
@@ -84,15 +85,37 @@ def _make_handlers(resolved, mav0, bag_path, opts, mass_kg, preset, pngs):
     return handlers
 
 
+def _require_rotors(tmap, profile: str, resolved, bag: Bag, allowed: bool) -> None:
+    """A dataset without rotor speeds (or thrust) cannot run in dynamics mode: converting such a
+    bag needs --allow-no-rotors; the error names the topics the map looked for."""
+    if allowed or any(rs.spec.kind in ("rotor", "thrust") for rs in resolved):
+        return
+    specs = next(specs for name, specs in tmap.profiles if name == profile)
+    wanted = [f"{spec.name} needs " + " or ".join("+".join(src.topics) for src in spec.sources)
+              for spec in specs if spec.kind in ("rotor", "thrust")]
+    looked = "; ".join(wanted) if wanted else f"the topic map {tmap.path} has no rotor or thrust stream"
+    raise MissingTopicError(f"{bag.path}: no rotor speeds in the bag ({looked}; profile '{profile}'): the dataset "
+                            f"could only run with vid_run --mode imu; pass --allow-no-rotors to convert it anyway")
+
+
 def _window(bag: Bag, opts: Options) -> tuple[int | None, int | None]:
+    """--start/--end as bag times; negative, empty or outside the bag: a usage error stating
+    the bag's span (the rule of the C++ programs' --start/--end, vid::app::check_window)."""
+    span_s = (bag.end_ns - bag.start_ns) * 1e-9
+    span = f"{bag.path}: the bag spans 0 to {span_s:.3f} s"
     start = stop = None
     if opts.start_s is not None:
         if opts.start_s < 0:
-            raise ConfigError(f"--start: expected seconds >= 0 from the bag start, got {opts.start_s}")
+            raise UsageError(f"--start {opts.start_s:g}: negative ({span})")
+        if opts.start_s >= span_s:
+            raise UsageError(f"--start {opts.start_s:g}: past the end of the bag ({span})")
         start = bag.start_ns + int(round(opts.start_s * 1e9))
     if opts.end_s is not None:
         if opts.end_s <= (opts.start_s or 0.0):
-            raise ConfigError(f"--end: must be after --start (got {opts.end_s})")
+            raise UsageError(f"--end {opts.end_s:g}: not after --start {opts.start_s or 0:g}, the selection is "
+                             f"empty ({span})")
+        if opts.end_s > span_s + 1.0:  # a margin: --end is often a rounded duration
+            raise UsageError(f"--end {opts.end_s:g}: past the end of the bag ({span})")
         stop = bag.start_ns + int(round(opts.end_s * 1e9))
     return start, stop
 
@@ -109,6 +132,7 @@ def convert(opts: Options, log=print) -> dict:
         topics = bag.topics()
         profile, resolved = topicmap.resolve(tmap, set(topics), bag.topic_list(), bag.path)
         _check_types(bag, resolved)
+        _require_rotors(tmap, profile, resolved, bag, opts.allow_no_rotors)
         mass_kg, mass_source = mass_for(opts.bag, opts.mass_kg, preset)
         if mass_source.startswith("preset default"):
             print(f"warning: mass not given and not found in the bag name; using {mass_kg} kg from "

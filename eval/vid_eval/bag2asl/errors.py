@@ -5,6 +5,10 @@ class Bag2AslError(Exception):
     """Base class: the message is the complete one-line explanation."""
 
 
+class UsageError(Bag2AslError):
+    """A command-line value that cannot be used (exit 2, as argparse's own usage errors)."""
+
+
 class ConfigError(Bag2AslError):
     """Bad topic map, preset or command-line value (message names file and key)."""
 

@@ -16,6 +16,7 @@ from typing import List, Optional
 
 from ..sim_runs import REPO
 from .spec import BatchSpecError, load_batch
+from ..usage import OneLineParser
 
 EXIT_BAD_SPEC = 2
 
@@ -28,7 +29,7 @@ def _default_build() -> str:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of vid-batch."""
-    p = argparse.ArgumentParser(prog="vid-batch", description=__doc__,
+    p = OneLineParser(prog="vid-batch", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True

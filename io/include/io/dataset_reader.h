@@ -4,6 +4,7 @@
 /// measurements, without loading images into memory.
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -28,9 +29,21 @@ class MeasurementSource {
 struct ReaderOptions {
   bool drop_bad_timestamps = false;   ///< drop non-monotonic/duplicate rows (counted) instead of throwing
   bool skip_missing_images = false;   ///< skip images listed but absent (counted) instead of throwing
+  /// List images that are missing on disk anyway (counted as skipped_missing_images): the consumer
+  /// finds them missing when decoding and reports the frame (vid::system::FrameFaults).
+  bool list_missing_images = false;
   bool read_images = true;            ///< emit ImageFrame from camN/data.csv
   bool read_features = true;          ///< emit FeatureFrame from feat0/data.csv
   bool read_groundtruth = true;       ///< emit GroundTruthSample, ForceSample, MassSample
+  /// Sensor streams (imu0, rotor0, thrust0, camN, feat0): a time gap between two rows longer than
+  /// this many sample periods (the median of the stream's first intervals) is an error naming
+  /// file, line and gap; 0: no check. Reference streams (ground truth, force0, mass0) may pause.
+  double max_gap_periods = 100.0;
+  /// Such a gap is passed to @p warn instead of thrown (the estimator then handles it as its
+  /// own IMU/rotor gap logic does, counted in summary.json).
+  bool gaps_as_warnings = false;
+  /// Receives warnings (gaps under gaps_as_warnings); called on the reading thread.
+  std::function<void(const std::string&)> warn;
 };
 
 /// @brief Calibration found in the folder's sensor.yaml / vehicle.yaml files.
@@ -52,6 +65,7 @@ struct StreamStats {
   std::size_t dropped = 0;    ///< rows dropped under ReaderOptions (sum of the two below)
   std::size_t dropped_bad_timestamps = 0;  ///< non-monotonic/duplicate rows (drop_bad_timestamps)
   std::size_t skipped_missing_images = 0;  ///< listed images not on disk (skip_missing_images)
+  std::size_t gaps_over_bound = 0;         ///< gaps past max_gap_periods (gaps_as_warnings)
 };
 
 /// @brief Reader of a dataset folder (SEQ or SEQ/mav0). Throws DatasetError / ConfigError.

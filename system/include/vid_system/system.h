@@ -16,6 +16,7 @@
 #include <opencv2/core.hpp>
 
 #include "vid_system/config.h"
+#include "vid_system/frame_faults.h"
 #include "vid_system/metrics.h"
 #include "vid_system/outputs.h"
 #include "vid_system/summary.h"
@@ -114,8 +115,11 @@ class System {
   /// timing, cpu, config, and ATE / force RMSE when ground truth was pushed. The caller adds
   /// its own fields (input, data duration, wall time) and writes it (write_summary).
   nlohmann::json summary() const;
-  /// @brief Close the output files (also done by the destructor).
+  /// @brief Close the output files (also done by the destructor); sums up the skipped frames
+  /// not warned one by one.
   void close_outputs();
+  /// @brief Camera frames skipped for bad images; set_strict(true) makes them errors.
+  FrameFaults& frame_faults() { return faults_; }
 
  private:
   void build_estimator();
@@ -124,7 +128,6 @@ class System {
   void track(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right);
   void estimate_out(const EstimateOutput& e);
   void frame_out(const FrameTimings& ft);
-  void warn_image(const std::string& msg);
 
   SystemParams p_;
   std::unique_ptr<Pipeline> pipeline_;
@@ -139,9 +142,9 @@ class System {
   std::vector<TimeNs> mass_t_;
   std::vector<double> mass_kg_;
   PipelineCounters past_counters_;  ///< counters of estimators replaced by restart()
-  long estimates_ = 0, frames_ = 0, feature_frames_ = 0, images_unreadable_ = 0, images_wrong_size_ = 0;
+  long estimates_ = 0, frames_ = 0, feature_frames_ = 0;
+  FrameFaults faults_;
   int restarts_ = 0;
-  int image_warnings_ = 0;
   bool was_starving_ = false;    ///< the pipeline's starvation flag at the previous frame
   int starvation_warnings_ = 0;  ///< episodes warned about (the first 10)
   std::vector<double> decode_ms_, tracking_cpu_ms_;

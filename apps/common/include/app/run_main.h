@@ -1,7 +1,8 @@
 #pragma once
 /// @file run_main.h
 /// @brief Runs a program body, turning any exception into one "PROGRAM: error: ..." line
-/// on stderr and exit code 1 (docs/design.md §3: bad input never crashes a program).
+/// on stderr and exit code 1, 2 for a vid::app::UsageError (docs/design.md §3: bad input never
+/// crashes a program).
 
 #include <functional>
 #include <string>

@@ -39,7 +39,7 @@ struct ReplayOptions {
   bool fast = false;                        ///< publish as fast as possible
   std::optional<std::filesystem::path> log; ///< LCM event log to write (lcm-logplayer format)
   double start_s = 0.0;                     ///< relative to the first measurement
-  double end_s = -1.0;                      ///< <0: to the end
+  std::optional<double> end_s;              ///< none: to the end
   lcm_io::ChannelNames channels;
   FaultOptions faults;
   bool progress = true;

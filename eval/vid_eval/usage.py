@@ -1,0 +1,15 @@
+"""The one argument parser of the Python programs (vid-eval, vid-bag2asl, vid-batch): a usage
+error is one line "PROG: error: ... (see --help)" on stderr and exit 2, as in the C++ programs
+(argparse's default prints the usage block first)."""
+from __future__ import annotations
+
+import argparse
+import sys
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse.ArgumentParser whose usage errors are one line; sub-parsers inherit it."""
+
+    def error(self, message: str):  # noqa: D401 - argparse's hook
+        print(f"{self.prog}: error: {message} (see --help)", file=sys.stderr)
+        sys.exit(2)
