@@ -57,16 +57,16 @@ def write_raw_vid_bag(path: pathlib.Path, compression: str) -> dict:
         gyro, acc = rng.normal(size=3), rng.normal(size=3) + [0, 0, 9.81]
         w.write("/djiros/imu_hwts", "djiros/msg/ImuWithHwTimeStamp", t + 500, w.dji_imu(t, t + 99, gyro, acc, k))
         exp["imu0"].append((t, [*gyro, *acc]))
-    latest = [None] * 4
     for k in range(40):  # motors 100 Hz, m1 first then m2..m4 at +1..3 ms
+        cycle = []
         for m in range(4):
             t = T0 + k * 10_000_000 + m * 1_000_000
             rpm = int(rng.integers(-3000, 9000))
             w.write(f"/m100withm3508/m3508_m{m + 1}", "uavmotor/msg/m3508", t + 200,
                     w.m3508(t, t + 5, m + 1, int(rng.integers(-500, 500)), rpm))
-            if m == 0 and all(v is not None for v in latest[1:]):
-                exp["rotor0"].append((t, [rpm] + latest[1:]))
-            latest[m] = rpm
+            cycle.append(rpm)
+        # one row per complete cycle, at its newest stamp (m4's), never a value of the last cycle
+        exp["rotor0"].append((T0 + k * 10_000_000 + 3_000_000, cycle))
         w.write("/m100withm3508/target_rpm", "uavmotor/msg/motordata", T0 + k * 10_000_000 + 300,
                 w.motordata(T0 + k * 10_000_000, T0, [1, 2, 3, 4]))
     for k in range(30):  # vicon TransformStamped 100 Hz, jittered stamps
@@ -292,3 +292,38 @@ def test_rest_with_rotors_stopped_is_kept(tmp_path):
     assert sum(1 for _, v in got if v == [0, 0, 0, 0]) == 100
     imu = numeric(out / "mav0" / "imu0" / "data.csv")
     assert [t for t, _ in imu] == [T0 + k * 10_000_000 for k in range(200)]
+
+
+def test_per_motor_rows_wait_for_the_whole_cycle(tmp_path):
+    """Issue 26: motors that arrive out of order within a cycle, one cycle with a message of
+    motor 3 lost: every row holds the four values of one cycle at its newest stamp; the
+    incomplete cycle is dropped (its values counted as superseded), nothing stale is held."""
+    bag = tmp_path / "motors.bag"
+    w = BagWriter(bag)
+    orders = [[2, 0, 3, 1], [0, 1, 2, 3], [3, 2, 1, 0], [1, 3, 0, 2]]
+    expected = []
+    for k in range(12):
+        base = T0 + k * 10_000_000
+        order = orders[k % 4]
+        values, stamps = {}, {}
+        for j, m in enumerate(order):
+            if k == 5 and m == 2:
+                continue  # motor 3's message of cycle 5 lost
+            t = base + j * 1_000_000
+            rpm = 1000 * (k + 1) + m
+            w.write(f"/m100withm3508/m3508_m{m + 1}", "uavmotor/msg/m3508", t, w.m3508(t, t, m + 1, 0, rpm))
+            values[m], stamps[m] = rpm, t
+        if k == 5:
+            continue  # incomplete: dropped when cycle 6 starts (3 values superseded)
+        expected.append((max(stamps.values()), [values[m] for m in range(4)]))
+    for k in range(12):
+        t = T0 + k * 10_000_000
+        w.write("/djiros/imu", "sensor_msgs/msg/Imu", t, w.imu(t, (0, 0, 0), (0, 0, 9.81)))
+        w.write("/camera/infra1/image_rect_raw", "sensor_msgs/msg/Image", t, w.image(t, "mono8", np.zeros((2, 2), np.uint8)))
+    w.close()
+    out = tmp_path / "out"
+    assert main([str(bag), str(out), "--no-progress"]) == 0
+    got = numeric(out / "mav0" / "rotor0" / "data.csv")
+    assert got == expected
+    summary = yaml.safe_load((out / "bag2asl.yaml").read_text())
+    assert summary["streams"]["rotor0"]["superseded_per_motor_values"] == 3

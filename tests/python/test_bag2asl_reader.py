@@ -220,4 +220,5 @@ def test_out_of_order_bag_same_output_with_either_reader(tmp_path, capsys, monke
     assert outs["sequential"] == outs["indexed"]
     assert len([k for k in outs["indexed"] if k.endswith(".png")]) == 40
     rotor = outs["indexed"]["mav0/rotor0/data.csv"].decode().splitlines()
-    assert len(rotor) == 1 + 129 and rotor[1] == f"{T0 + 10 * MS},1,100,200,300"
+    # one row per complete cycle (130 cycles), at its newest stamp (motor 4, +3 ms)
+    assert len(rotor) == 1 + 130 and rotor[1] == f"{T0 + 3 * MS},0,100,200,300"

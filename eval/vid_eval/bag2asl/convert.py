@@ -214,6 +214,8 @@ def _summary(opts, profile, handlers, mass_kg, mass_source, wall, cpu, tmap, png
                  "first_ns": csv.first_ns if csv else None, "last_ns": csv.last_ns if csv else None}
         if h.rs.spec.kind == "rotor":
             entry["source"] = h.rs.source.label
+            if h.rs.source.per_motor:
+                entry["superseded_per_motor_values"] = h.superseded
         if h.bag_stamped:
             entry["stamped_with_bag_time"] = h.bag_stamped
         if isinstance(h, GroundTruthHandler):
@@ -246,6 +248,8 @@ def _log_summary(s: dict, log) -> None:
         extra = f", source {e['source']}" if "source" in e else ""
         extra += f", velocity {e['velocity']}" if "velocity" in e else ""
         drop = f", {e['dropped_non_increasing']} dropped (time not increasing)" if e["dropped_non_increasing"] else ""
+        if e.get("superseded_per_motor_values"):
+            drop += f", {e['superseded_per_motor_values']} per-motor values superseded before their cycle completed"
         log(f"  {name:<28} {e['rows']:>8} rows from {'+'.join(e['topics'])}{extra}{drop}")
     if s["image_input_mb"]:
         log(f"images: {s['image_input_mb']} MB in {s['wall_s']} s = {s['image_mb_per_s']} MB/s "

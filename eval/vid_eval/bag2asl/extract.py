@@ -137,9 +137,13 @@ def _scaled(values, scale: float, order):
 class RotorHandler(Handler):
     """Rotor speeds from one array topic, or from one topic per motor.
 
-    Per motor: a row is written at every message of the FIRST motor topic, holding the latest
-    value received on each motor topic (sample and hold), once every motor has reported; its
-    timestamp is that first-motor message's. Values are written as the sensor gives them.
+    Per motor (VID's m3508 topics, one message per motor per 10 ms cycle, a few ms apart): a row
+    is written once every motor has sent a value since the previous row (a complete cycle), at
+    the newest stamp of the cycle (the time the row became complete: no value is from its
+    future), never holding a value from an earlier cycle. A motor that reports again before the
+    cycle completed (a message of another motor lost) starts a new cycle: the incomplete one's
+    values are dropped and counted in `superseded` (bag2asl.yaml). Values are written as the
+    sensor gives them.
     """
 
     lazy = True
@@ -149,7 +153,8 @@ class RotorHandler(Handler):
         self.coefficients = coefficients  # rotor_thrust_coefficients in the preset's vehicle.yaml
         self.vehicle_path = vehicle_path
         self.count = None
-        self.latest = [None] * len(rs.source.topics)
+        self.pending = [None] * len(rs.source.topics)  # (stamp, value) since the last row, per motor
+        self.superseded = 0
         self.order = rs.spec.options.get("order")
         if self.order is not None and sorted(self.order) != list(range(len(self.order))):
             raise ConfigError(f"{rs.spec.name}.order: must be a permutation of 0..k-1, got {self.order}")
@@ -178,13 +183,21 @@ class RotorHandler(Handler):
             if self.csv.accepts(t):
                 self.csv.write(t, _scaled(values, src.scale, self.order))
             return
-        self.latest[index] = value.item() if isinstance(value, np.generic) else value
-        if index != 0 or any(v is None for v in self.latest):
+        if self.pending[index] is not None:
+            # This motor starts a new cycle before the last one completed (another motor's
+            # message was lost): the incomplete cycle's values are dropped, not mixed in.
+            self.superseded += sum(p is not None for p in self.pending)
+            self.pending = [None] * len(self.pending)
+        self.pending[index] = (self.stamp(msg, bag_ns, src.stamp, where),
+                               value.item() if isinstance(value, np.generic) else value)
+        if any(p is None for p in self.pending):
             return
-        t = self.stamp(msg, bag_ns, src.stamp, where)
-        self._check_count(len(self.latest), where)
+        t = max(stamp for stamp, _ in self.pending)
+        values = [v for _, v in self.pending]
+        self.pending = [None] * len(self.pending)
+        self._check_count(len(values), where)
         if self.csv.accepts(t):
-            self.csv.write(t, _scaled(self.latest, src.scale, self.order))
+            self.csv.write(t, _scaled(values, src.scale, self.order))
 
 
 class ThrustHandler(Handler):
