@@ -1,6 +1,7 @@
 """Issue 26: the filter's health monitor (vio_core/health_monitor.h), each case forced on a
 simulated sequence: visual innovations out of band (a stereo calibration 1 deg off: most
-features fail the chi2 gate) stop vid_run with exit 3 and say why; feature starvation (3 s in
+features fail the chi2 gate) stop vid_run with exit 3 and say why when the reset is on (off by
+default), and show in summary.json health either way; feature starvation (3 s in
 which no feature is tracked from one frame to the next) is one warning line, counted in
 summary.json, and the run goes on; a clean run keeps a wide margin to both."""
 import json
@@ -48,7 +49,12 @@ def test_wrong_stereo_calibration_is_out_of_band(seq, tmp_path):
     T = np.array([float(x) for x in m.group(1).split(",")]).reshape(4, 4)
     T[:3, :3] = Rotation.from_euler("x", 1.0, degrees=True).as_matrix() @ T[:3, :3]
     yaml_path.write_text(text.replace(m.group(0), "data: [" + ", ".join(repr(float(x)) for x in T.ravel()) + "]"))
-    r = vid_run(bad, tmp_path / "run", "--config", CONFIG)
+    # The reset is off by default (README "Filter health"): turned on here.
+    cfg = tmp_path / "config"
+    shutil.copytree(CONFIG, cfg)
+    with open(cfg / "estimator.yaml", "a") as f:
+        f.write("\nhealth_max_chi2_rejected_fraction: 0.75\n")
+    r = vid_run(bad, tmp_path / "run", "--config", str(cfg))
     assert r.returncode == 3, r.stderr
     s = summary(tmp_path / "run")
     assert s["status"] == "diverged"

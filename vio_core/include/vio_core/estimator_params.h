@@ -131,9 +131,10 @@ struct EstimatorParams {
   /// Window [s] over which the visual chi2 gate's rejections are counted.
   double health_window_s = 1.0;
   /// Diverged when at least this fraction of the features tested in the window fail the 95 %
-  /// gate (a consistent filter: ~5 %; healthy runs peak at 0.26 stereo, 0.52 mono at the start
-  /// of a flight after a hover; a stereo calibration 1 deg off: 0.86); 0 = off.
-  double health_max_chi2_rejected_fraction = 0.75;
+  /// gate (a consistent filter: ~5 %; a stereo calibration 1 deg off: 0.86); 0 = off, the
+  /// default: on rendered images a rope snap or a force step makes a healthy filter reject
+  /// 0.75-0.77 for a moment (it recovers), so no fixed fraction separates the two yet.
+  double health_max_chi2_rejected_fraction = 0.0;
   /// ... and at least this many features were tested in the window (a fraction of few says little).
   int health_min_tested_features = 30;
   /// Starving after this long [s] without a feature track reaching an update while frames
