@@ -1,9 +1,20 @@
 """Timestamp association of an estimate with ground truth, and ground-truth interpolation.
 
-Nearest-neighbour association follows evo's rule (``evo.core.sync.associate_trajectories``)
-so that the same files give the same pairs: the stream with fewer samples is walked, each of
-its samples takes the nearest sample of the other stream if it is within the tolerance. A
-time offset is added to the estimate's timestamps before matching (``t_est + offset ~ t_gt``).
+Nearest-neighbour association is evo's rule (``evo.core.sync.associate_trajectories``), so
+that the same files give the same pairs, ties included:
+
+* the stream with fewer samples is walked; on equal counts the estimate is walked;
+* each walked sample takes the nearest sample of the other stream within the tolerance; on a
+  tie the earlier one;
+* the time offset (``t_est + offset ~ t_gt``) is applied to the longer stream (with the sign
+  that makes it mean the same thing);
+* distances are compared in float64 seconds as evo reads them from the file: a TUM stamp is
+  the double nearest its decimal text, an ASL stamp is ``double(ns) / 1e9``.
+
+The last point matters only for near ties: at epoch times (~1.7e9 s) a double resolves
+~0.24 µs, so two candidates whose exact distances differ by less than that can be ordered
+differently than in exact nanoseconds; evo's choice is kept so that the two tools agree
+(tests/python/test_eval_association.py). Metrics themselves use the exact int64 ns.
 """
 from __future__ import annotations
 
@@ -26,7 +37,22 @@ class Matches:
         return len(self.est_idx)
 
 
-def _nearest(stamps_a: np.ndarray, stamps_b: np.ndarray, tol: int) -> Tuple[np.ndarray, np.ndarray]:
+TIME_UNITS = ("ns", "s")
+
+
+def evo_seconds(t_ns: np.ndarray, time_unit: str = "ns") -> np.ndarray:
+    """Timestamps as evo's readers hold them: ``time_unit="s"`` (a TUM file: the double
+    nearest ``t_ns / 1e9``, i.e. ``float(text)`` for stamps with <= 9 decimals; Python's int
+    division is correctly rounded), ``"ns"`` (an ASL CSV: ``float(ns) / 1e9``)."""
+    t_ns = np.asarray(t_ns, dtype=np.int64)
+    if time_unit == "s":
+        return np.fromiter((x / 1_000_000_000 for x in t_ns.tolist()), np.float64, len(t_ns))
+    if time_unit == "ns":
+        return t_ns.astype(np.float64) / 1e9
+    raise ValueError(f"unknown time unit '{time_unit}' (choose from {', '.join(TIME_UNITS)})")
+
+
+def _nearest(stamps_a: np.ndarray, stamps_b: np.ndarray, tol: float) -> Tuple[np.ndarray, np.ndarray]:
     """For each of ``stamps_a`` the nearest of sorted ``stamps_b`` within ``tol`` (ties -> earlier)."""
     ia, ib = [], []
     n = len(stamps_b)
@@ -36,7 +62,7 @@ def _nearest(stamps_a: np.ndarray, stamps_b: np.ndarray, tol: int) -> Tuple[np.n
         j = int(np.searchsorted(stamps_b, s, side="right"))
         j = min(j, n - 1)
         d_up = stamps_b[j] - s
-        d_lo = s - stamps_b[j - 1] if j > 0 else np.iinfo(np.int64).max
+        d_lo = s - stamps_b[j - 1] if j > 0 else np.inf
         if d_up <= tol and d_up < d_lo:
             best = j
         elif d_lo <= tol and d_lo <= d_up:
@@ -57,21 +83,27 @@ def associate(
     est_name: str = "estimate",
     gt_name: str = "ground truth",
     min_pairs: int = 1,
+    est_unit: str = "ns",
+    gt_unit: str = "ns",
 ) -> Matches:
-    """Associate two sorted int64-ns time vectors by nearest timestamp within ``max_diff_ns``.
+    """Associate two sorted int64-ns time vectors by nearest timestamp within ``max_diff_ns``
+    (evo's rule, see the module notes); ``est_unit``/``gt_unit`` say how each file wrote its
+    stamps (``"s"`` TUM, ``"ns"`` ASL CSV).
 
     Raises:
         AssociationError: when fewer than ``min_pairs`` pairs are found.
     """
-    t_est = np.asarray(t_est, dtype=np.int64) + np.int64(offset_ns)
+    t_est = np.asarray(t_est, dtype=np.int64)
     t_gt = np.asarray(t_gt, dtype=np.int64)
-    tol = int(max_diff_ns)
-    if len(t_gt) > len(t_est):
-        ie, ig = _nearest(t_est, t_gt, tol)
+    s_est, s_gt = evo_seconds(t_est, est_unit), evo_seconds(t_gt, gt_unit)
+    tol, offset_s = max_diff_ns / 1e9, offset_ns / 1e9
+    if len(t_est) > len(t_gt):
+        ig, ie = _nearest(s_gt, s_est + offset_s, tol)
     else:
-        ig, ie = _nearest(t_gt, t_est, tol)
+        ie, ig = _nearest(s_est, s_gt - offset_s, tol)
     if len(ie) < min_pairs:
-        raise AssociationError(_no_overlap_message(t_est, t_gt, tol, offset_ns, est_name, gt_name,
+        raise AssociationError(_no_overlap_message(t_est + np.int64(offset_ns), t_gt,
+                                                   int(max_diff_ns), offset_ns, est_name, gt_name,
                                                    len(ie), min_pairs))
     return Matches(ie, ig)
 

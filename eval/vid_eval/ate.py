@@ -61,7 +61,8 @@ def ate_of_paired(est: Trajectory, gt: Trajectory, mode: str = "posyaw",
     if with_rotation:
         R_err = np.einsum("nji,njk->nik", matrices_from_wxyz(gt.q), R_al)
         rot_err = np.degrees(rotation_angle(R_err))
-    est_al = Trajectory(est.t_ns, p_al, wxyz_from_rot(Rotation.from_matrix(R_al)), est.source)
+    est_al = Trajectory(est.t_ns, p_al, wxyz_from_rot(Rotation.from_matrix(R_al)), est.source,
+                        est.time_unit)
     return AteResult(al, est_al, gt, pos_err, rot_err)
 
 

@@ -35,7 +35,7 @@ def load_tum(path: PathLike) -> Trajectory:
                      what="TUM trajectory")
     v = tab.values
     q = _quaternions(tab, v[:, [6, 3, 4, 5]])
-    return Trajectory(tab.t_ns, v[:, 0:3].copy(), q, tab.path)
+    return Trajectory(tab.t_ns, v[:, 0:3].copy(), q, tab.path, time_unit="s")
 
 
 def load_euroc_pose_csv(path: PathLike) -> Trajectory:

@@ -30,10 +30,12 @@ class PairingOptions:
     min_pairs: int = 2
 
 
-def _indices(t_est, t_gt, opt: PairingOptions, est_name: str, gt_name: str):
+def _indices(t_est, t_gt, opt: PairingOptions, est_name: str, gt_name: str,
+             units: tuple[str, str] = ("ns", "ns")):
     if opt.mode == "nearest":
         m = associate(t_est, t_gt, opt.max_diff_ns, opt.offset_ns, est_name=est_name,
-                      gt_name=gt_name, min_pairs=opt.min_pairs)
+                      gt_name=gt_name, min_pairs=opt.min_pairs, est_unit=units[0],
+                      gt_unit=units[1])
         return m.est_idx, m.gt_idx, None
     if opt.mode == "interpolate":
         idx, q = interpolation_support(t_est, t_gt, opt.offset_ns, opt.max_gap_ns,
@@ -45,7 +47,8 @@ def _indices(t_est, t_gt, opt: PairingOptions, est_name: str, gt_name: str):
 def pair_trajectories(est: Trajectory, gt: Trajectory, opt: PairingOptions):
     """Return (est, gt) trajectories of equal length, sample k of one paired with k of the
     other. The ground truth keeps its own clock; the estimate keeps its own timestamps."""
-    ie, ig, q = _indices(est.t_ns, gt.t_ns, opt, est.source or "estimate", gt.source or "ground truth")
+    ie, ig, q = _indices(est.t_ns, gt.t_ns, opt, est.source or "estimate", gt.source or "ground truth",
+                         (est.time_unit, gt.time_unit))
     if q is None:
         return est.subset(ie), gt.subset(ig)
     gt_i = Trajectory(q, lerp(gt.t_ns, gt.p, q), slerp_wxyz(gt.t_ns, gt.q, q), gt.source)

@@ -12,19 +12,24 @@ import numpy as np
 
 @dataclass
 class Trajectory:
-    """Poses ``p_WI`` (N, 3) [m] and ``q_WI`` (N, 4) (w, x, y, z) at times ``t_ns`` (N,)."""
+    """Poses ``p_WI`` (N, 3) [m] and ``q_WI`` (N, 4) (w, x, y, z) at times ``t_ns`` (N,).
+
+    ``time_unit`` says how the file wrote the stamps (``"s"``: TUM seconds, ``"ns"``: ASL);
+    only the evo-compatible association looks at it (:mod:`vid_eval.association`).
+    """
 
     t_ns: np.ndarray
     p: np.ndarray
     q: np.ndarray
     source: str = ""
+    time_unit: str = "ns"
 
     def __len__(self) -> int:
         return len(self.t_ns)
 
     def subset(self, idx: np.ndarray) -> "Trajectory":
         """The poses at the given indices."""
-        return Trajectory(self.t_ns[idx], self.p[idx], self.q[idx], self.source)
+        return Trajectory(self.t_ns[idx], self.p[idx], self.q[idx], self.source, self.time_unit)
 
     @property
     def t_s(self) -> np.ndarray:

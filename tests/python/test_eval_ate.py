@@ -66,8 +66,8 @@ def test_ate_matches_evo(tmp_path, case, mode):
     evo_pos, evo_rot, evo_n = _evo_ape(est_path, gt_path, kind, mode == "sim3")
     res = compute_ate(load_trajectory(est_path), load_trajectory(gt_path), mode)
     assert len(res.pos_err) == evo_n
-    assert res.pos_rmse == pytest.approx(evo_pos, abs=1e-6)
-    assert res.rot_rmse_deg == pytest.approx(evo_rot, abs=1e-6)
+    assert res.pos_rmse == pytest.approx(evo_pos, abs=1e-9)
+    assert res.rot_rmse_deg == pytest.approx(evo_rot, abs=1e-9)
     assert res.pos_rmse > 1e-3  # the case is not trivially zero
 
 
@@ -81,8 +81,8 @@ def test_ate_matches_evo_with_time_offset(tmp_path):
     opt = PairingOptions(offset_ns=250_000_000)
     res = compute_ate(load_trajectory(shifted), load_trajectory(gt_path), "se3", pairing=opt)
     assert len(res.pos_err) == evo_n
-    assert res.pos_rmse == pytest.approx(evo_pos, abs=1e-6)
-    assert res.rot_rmse_deg == pytest.approx(evo_rot, abs=1e-6)
+    assert res.pos_rmse == pytest.approx(evo_pos, abs=1e-9)
+    assert res.rot_rmse_deg == pytest.approx(evo_rot, abs=1e-9)
 
 
 def test_cli_json_matches_evo(tmp_path):
@@ -94,8 +94,8 @@ def test_cli_json_matches_evo(tmp_path):
     data = json.loads(out.read_text())
     evo_pos, evo_rot, evo_n = _evo_ape(est_path, gt_path, kind, True)
     assert data["ate"]["pairs"] == evo_n
-    assert data["ate_pos_rmse_m"] == pytest.approx(evo_pos, abs=1e-6)
-    assert data["ate_rot_rmse_deg"] == pytest.approx(evo_rot, abs=1e-6)
+    assert data["ate_pos_rmse_m"] == pytest.approx(evo_pos, abs=1e-9)
+    assert data["ate_rot_rmse_deg"] == pytest.approx(evo_rot, abs=1e-9)
 
 
 def _posyaw_case(yaw_deg=37.0, t=(1.5, -2.0, 0.7), noise=0.0, seed=3):

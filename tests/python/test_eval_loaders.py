@@ -51,10 +51,10 @@ def test_association_matches_evo_indices(seed):
     t_est = t_est[np.diff(t_est, prepend=-1) > 1e-6]
     tol = 0.003
     i_ref, i_est = (None, None)
-    if len(t_gt) > len(t_est):
-        i_est, i_ref = sync.matching_time_indices(t_est, t_gt, tol)
-    else:
+    if len(t_est) > len(t_gt):  # as associate_trajectories(ref, est): equal counts walk est
         i_ref, i_est = sync.matching_time_indices(t_gt, t_est, tol)
+    else:
+        i_est, i_ref = sync.matching_time_indices(t_est, t_gt, tol)
     m = associate(np.round(t_est * 1e9).astype(np.int64), np.round(t_gt * 1e9).astype(np.int64),
                   max_diff_ns=int(tol * 1e9))
     assert list(m.est_idx) == list(i_est)
