@@ -11,43 +11,23 @@
 
 namespace vid::system {
 
-nlohmann::json stage_stats(std::vector<double> v) {
-  nlohmann::json j;
-  if (v.empty()) {
-    j["count"] = 0;
-    return j;
-  }
-  std::sort(v.begin(), v.end());
-  const auto quantile = [&v](double q) {
-    // Nearest-rank quantile: the smallest value with at least q of the sample at or below it.
-    const std::size_t rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
-    return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
-  };
-  j["count"] = v.size();
-  j["mean_ms"] = std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-  j["median_ms"] = quantile(0.5);
-  j["p99_ms"] = quantile(0.99);
-  j["max_ms"] = v.back();
-  return j;
-}
-
 void StageTimes::add(const TimingRow& r) {
-  tracking_.push_back(r.tracking_ms);
-  propagation_.push_back(r.propagation_ms);
-  accel_.push_back(r.accel_update_ms);
-  msckf_.push_back(r.msckf_update_ms);
-  marginalization_.push_back(r.marginalization_ms);
-  total_.push_back(r.total_ms);
+  tracking_.add(r.tracking_ms);
+  propagation_.add(r.propagation_ms);
+  accel_.add(r.accel_update_ms);
+  msckf_.add(r.msckf_update_ms);
+  marginalization_.add(r.marginalization_ms);
+  total_.add(r.total_ms);
 }
 
 nlohmann::json StageTimes::to_json() const {
   nlohmann::json j;
-  j["tracking"] = stage_stats(tracking_);
-  j["propagation"] = stage_stats(propagation_);
-  j["accel_updates"] = stage_stats(accel_);
-  j["msckf_update"] = stage_stats(msckf_);
-  j["marginalization"] = stage_stats(marginalization_);
-  j["total"] = stage_stats(total_);
+  j["tracking"] = tracking_.to_json();
+  j["propagation"] = propagation_.to_json();
+  j["accel_updates"] = accel_.to_json();
+  j["msckf_update"] = msckf_.to_json();
+  j["marginalization"] = marginalization_.to_json();
+  j["total"] = total_.to_json();
   return j;
 }
 

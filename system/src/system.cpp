@@ -146,7 +146,7 @@ void System::push(const ImageFrame& frame) {
 void System::push_decoded(const ImageFrame& frame, const std::vector<std::pair<int, cv::Mat>>& images,
                           double decode_ms, double decode_cpu_ms) {
   ++frames_;
-  decode_ms_.push_back(decode_ms);
+  decode_ms_.add(decode_ms);
   decode_cpu_ms_ += decode_cpu_ms;
   const auto& cameras = p_.config.cameras;
   cv::Mat left, right;
@@ -194,7 +194,7 @@ void System::track(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right) {
   const double cpu_track = thread_cpu_ms();
   FeatureFrame ff = frontend_->track(t_ns, left, right);
   tracking_ms_[t_ns] = ms_since(t_track);
-  tracking_cpu_ms_.push_back(thread_cpu_ms() - cpu_track);
+  tracking_cpu_ms_.add(thread_cpu_ms() - cpu_track);
   to_pipeline(std::move(ff));
 }
 

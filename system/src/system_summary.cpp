@@ -137,14 +137,14 @@ nlohmann::json System::summary() const {
   s["accel"] = accel_report(c);
   if (dynamics()) s["flight_phase"] = flight_phase_report(c, pipeline_->flight_phase());
   s["timing"] = stage_times_.to_json();  // frontend + estimator stages; excludes image decoding
-  s["timing"]["image_decoding"] = stage_stats(decode_ms_);
+  s["timing"]["image_decoding"] = decode_ms_.to_json();
   s["peak_memory_mib"] = peak_memory_mib();
   // CPU-time view (robust to other processes on a shared machine); the caller adds the
   // CPU real-time factor, which needs the data duration.
   const double cpu_s = process_cpu_s() - cpu_start_s_;
   s["cpu"]["process_cpu_s"] = cpu_s;
   s["cpu"]["image_decoding_cpu_s"] = decode_cpu_ms_ * 1e-3;
-  s["cpu"]["tracking_cpu"] = stage_stats(tracking_cpu_ms_);
+  s["cpu"]["tracking_cpu"] = tracking_cpu_ms_.to_json();
   s["cpu"]["mean_cpu_ms_per_frame_excluding_decoding"] =
       c.frames > 0 ? (cpu_s * 1e3 - decode_cpu_ms_) / static_cast<double>(c.frames) : 0.0;
   s["config"] = describe(cfg);

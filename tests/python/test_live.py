@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from test_vid_run_helpers import REPO, build_dir, simulate_cached, summary, tum_rows, vid_run
+from vid_eval.live.fault_counts import fault_mismatches
 
 SEQ_S = 12.0   # rendered sequence shared with test_vid_run.py (cached per session)
 END_S = 6.0    # replayed / estimated seconds (keeps the image log ~110 MB)
@@ -166,16 +167,9 @@ def test_faults_are_counted_and_cost_at_most_twice_the_ate(seq, work, clean):
     inj, got = report["faults"], s["faults"]
     assert sum(inj["images_dropped"].values()) >= 10 and inj["imu_duplicated"] >= 5
     assert sum(inj["reordered_arrivals"].values()) >= 50 and sum(inj["malformed"].values()) == 10
-    for cam in ["cam0", "cam1"]:
-        assert got[f"{cam}.missing"] == inj["images_dropped"].get(cam, 0), cam
-    assert got["imu.duplicate"] == inj["imu_duplicated"]
+    assert fault_mismatches(report, s) == []  # every fault counted exactly as injected
     for stream in ["imu", "rotors", "cam0", "cam1"]:
-        assert got[f"{stream}.reordered"] == inj["reordered_arrivals"].get(stream, 0), stream
         assert got[f"{stream}.late"] == 0  # 20 ms of reordering fits the 30 ms window
-    channel_stream = {"IMU": "imu", "CAM0": "cam0", "ROTORS": "rotors"}
-    for channel, n in inj["malformed"].items():
-        assert got[f"{channel_stream[channel]}.malformed"] == n, channel
-    assert got["frames_dropped_overload"] == 0
     assert s["status"] == "ok"
     assert s["counts"]["imu_samples"] == summary(work / "live_clean")["counts"]["imu_samples"]
     clean_ate = ate(work / "live_clean", seq)
@@ -247,11 +241,8 @@ def test_late_messages_and_camera_stall_are_counted(seq, work, clean):
     s = live(seq, log, work / "live_late", "--publish-url", f"file://{out_log}?mode=w")
     inj, got = report["faults"], s["faults"]
     assert sum(inj["late"].values()) >= 3
-    for stream in ["imu", "rotors", "cam0", "cam1"]:
-        n_late = inj["late"].get(stream, 0)
-        assert got[f"{stream}.late"] == n_late, stream
-        # A late message never enters the estimator: its stream has a gap there.
-        assert got[f"{stream}.missing"] == n_late + inj["stall_images"].get(stream, 0), stream
+    # A late message never enters the estimator: its stream has a gap there (counted missing).
+    assert fault_mismatches(report, s) == []
     assert inj["camera_stalls"] == 1 and got["camera_stalls"] == 1
     assert s["counts"]["imu_samples"] == report["published"]["IMU"] - inj["late"].get("imu", 0)
     health = [state_t.decode(ev.data).status for ev in lcm.EventLog(str(out_log), "r") if ev.channel == "VID_STATE"]

@@ -32,6 +32,8 @@ int main(int argc, char** argv) {
     app.add_option("--channels", channels, "YAML file of channel names (keys imu, cam0, cam1, rotors, thrust)");
     app.add_option("--start", opt.start_s, "start [s] after the first measurement");
     app.add_option("--end", opt.end_s, "end [s] after the first measurement (default: to the end)");
+    app.add_option("--loop", opt.loops, "replay the window N times, each pass shifted to follow the last (soak tests)")
+        ->check(CLI::Range(1, 1000000));
     auto& f = opt.faults;
     app.add_option("--drop-images", f.drop_images, "fault: probability of not publishing an image")
         ->check(CLI::Range(0.0, 1.0));

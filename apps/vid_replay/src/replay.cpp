@@ -81,14 +81,16 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   std::uniform_real_distribution<double> U(0.0, 1.0);
   std::map<int, std::size_t> image_count, image_index;
   std::map<std::string, long> stall_images;
+  long camera_stalls = 0;  // passes in which the stall withheld images
   TimeNs stall_from = INT64_MAX, stall_to = INT64_MIN;
   for (int cam = 0; cam < 2; ++cam)
     if (reader.has_stream("cam" + std::to_string(cam)))
       image_count[cam] = data_rows(reader.mav0() / ("cam" + std::to_string(cam)) / "data.csv");
-  std::set<TimeNs> malformed_at;  // IMU times after which a malformed message goes out
+  std::set<TimeNs> malformed_at;  // IMU times (unshifted) after which a malformed message goes out
+  std::vector<TimeNs> t_imu;       // IMU times of the window
   TimeNs imu_last = INT64_MIN;     // last replayed IMU time (progress)
-  auto plan_malformed = [&](TimeNs from, TimeNs to) {
-    std::vector<TimeNs> t_imu;
+  TimeNs period = 0;               // shift between two passes (loops > 1)
+  auto read_imu_times = [&](TimeNs from, TimeNs to) {
     io::CsvReader in(reader.mav0() / "imu0" / "data.csv");
     while (in.next_row()) {
       const TimeNs t = in.get_int(0, "timestamp [ns]");
@@ -96,11 +98,16 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     }
     if (t_imu.empty()) return;
     imu_last = t_imu.back();
-    if (fo.malformed <= 0) return;
+    period = t_imu.back() - t_imu.front();
+  };
+  auto plan_malformed = [&]() {  // once per pass
+    malformed_at.clear();
+    if (fo.malformed <= 0 || t_imu.empty()) return;
     std::uniform_int_distribution<std::size_t> pick(t_imu.size() / 10, std::max(t_imu.size() / 10, t_imu.size() * 9 / 10));
     while (static_cast<int>(malformed_at.size()) < fo.malformed && malformed_at.size() < t_imu.size())
       malformed_at.insert(t_imu[pick(rng)]);
   };
+  const int loops = std::max(1, opt.loops);
 
   nlohmann::json report;
   std::map<std::string, long> published, reordered, malformed;
@@ -111,6 +118,7 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   TimeNs max_regular_sent = INT64_MIN;
   std::optional<TimeNs> t0, wall_t0;
   TimeNs t_start = 0, t_end = INT64_MAX;
+  TimeNs t_first = 0;  // first replayed measurement: a pass covers [t_first, t_first + period)
   const auto wall_start = std::chrono::steady_clock::now();
   auto wall_anchor = wall_start;
   std::unique_ptr<app::ProgressBar> bar;
@@ -193,24 +201,39 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   po.end_s = opt.end_s.value_or(-1.0);
   po.decode_threads = 1;
   po.capacity = 256;
-  app::Prefetcher prefetch(reader, po);
+  for (int pass = 0; pass < loops && !stop.load(); ++pass) {
+  std::optional<io::DatasetReader> again;  // a pass reads the folder afresh
+  if (pass > 0) again.emplace(opt.dataset, ro);
+  app::Prefetcher prefetch(pass > 0 ? *again : reader, po);
   if (!opt.fast) prefetch.wait_ready();
+  image_index.clear();
+  if (pass > 0) plan_malformed();
+  bool stalled = false;
+  const TimeNs shift = pass * period;
   while (auto p = prefetch.next()) {
     if (stop.load()) break;
     const Measurement* m = &p->m;
-    const TimeNs t = stamp_of(*m);
+    const TimeNs t_data = stamp_of(*m);  // as recorded: fault plans and stalls refer to it
     if (!t0) {
       t0 = p->t0;
       t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
       if (opt.end_s) t_end = *t0 + static_cast<TimeNs>(*opt.end_s * 1e9);
       if (opt.progress) bar = std::make_unique<app::ProgressBar>("vid_replay", 1.0);
-      if (fo.malformed > 0 || opt.progress) plan_malformed(t_start, t_end);
+      t_first = t_data;
+      if (fo.malformed > 0 || opt.progress || loops > 1) read_imu_times(t_start, t_end);
+      if (loops > 1 && period <= 0) throw std::runtime_error(opt.dataset.string() + ": --loop needs at least two IMU samples");
+      plan_malformed();
       if (fo.stall_start_s >= 0.0 && fo.stall_s > 0.0) {
         stall_from = *t0 + static_cast<TimeNs>(fo.stall_start_s * 1e9);
         stall_to = stall_from + static_cast<TimeNs>(fo.stall_s * 1e9);
       }
     }
-    if (const auto* imu = std::get_if<ImuSample>(&*m)) {
+    if (pass + 1 < loops && t_data >= t_first + period) break;  // the next pass starts there
+    const TimeNs t = t_data + shift;
+    if (const auto* imu_data = std::get_if<ImuSample>(&*m)) {
+      ImuSample imu_shifted = *imu_data;
+      imu_shifted.t_ns = t;
+      const ImuSample* imu = &imu_shifted;
       auto bytes = lcm_io::encode(lcm_io::to_lcm(*imu));
       const TimeNs d = delay();
       const bool dup = fo.duplicate_imu > 0.0 && U(rng) < fo.duplicate_imu;
@@ -219,17 +242,23 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
         enqueue(t, ch.imu, "imu", std::move(bytes), false, d);  // published right after the original
         ++duplicated;
       }
-      if (malformed_at.count(t)) add_malformed(t);
+      if (malformed_at.count(t_data)) add_malformed(t);
     } else if (const auto* r = std::get_if<RotorSample>(&*m)) {
-      enqueue(t, ch.rotors, "rotors", lcm_io::encode(lcm_io::to_lcm(*r, rotor_unit)), true, delay());
+      RotorSample shifted = *r;
+      shifted.t_ns = t;
+      enqueue(t, ch.rotors, "rotors", lcm_io::encode(lcm_io::to_lcm(shifted, rotor_unit)), true, delay());
     } else if (const auto* th = std::get_if<ThrustSample>(&*m)) {
-      enqueue(t, ch.thrust, "thrust", lcm_io::encode(lcm_io::to_lcm(*th)), true, delay());
+      ThrustSample shifted = *th;
+      shifted.t_ns = t;
+      enqueue(t, ch.thrust, "thrust", lcm_io::encode(lcm_io::to_lcm(shifted)), true, delay());
     } else if (const auto* f = std::get_if<ImageFrame>(&*m)) {
       for (const auto& [cam_id, g] : p->images) {
         const std::size_t k = image_index[cam_id]++;
         const std::string stream = "cam" + std::to_string(cam_id);
-        if (t >= stall_from && t < stall_to) {
+        if (t_data >= stall_from && t_data < stall_to) {
           ++stall_images[stream];
+          if (!stalled) ++camera_stalls;
+          stalled = true;
           continue;
         }
         if (fo.drop_images > 0.0 && k >= 10 && k + 1 < image_count[cam_id] && U(rng) < fo.drop_images) {
@@ -247,7 +276,9 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
       }
     }
     send_until(t);
-    if (bar && imu_last > t_start) bar->update(std::clamp(ns_to_s(t - t_start) / ns_to_s(imu_last - t_start), 0.0, 1.0));
+    if (bar && imu_last > t_start)
+      bar->update((pass + std::clamp(ns_to_s(t_data - t_start) / ns_to_s(imu_last - t_start), 0.0, 1.0)) / loops);
+  }
   }
   send_until(INT64_MAX);
   if (bar) bar->finish();
@@ -259,8 +290,9 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
                       {"late", late},
                       {"malformed", malformed},
                       {"stall_images", stall_images},
-                      {"camera_stalls", stall_images.empty() ? 0 : 1}};
+                      {"camera_stalls", camera_stalls}};
   report["images_unreadable"] = unreadable;
+  report["loops"] = loops;
   if (!opt.fast) report["max_lag_ms"] = max_lag_ms;
   report["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return report;

@@ -10,23 +10,21 @@
 #include <nlohmann/json.hpp>
 
 #include "vid_system/outputs.h"
+#include "vid_system/stage_stats.h"
 #include "vio_core/pipeline.h"
 
 namespace vid::system {
-
-/// @brief mean / median / p99 / max of a sample [ms].
-nlohmann::json stage_stats(std::vector<double> values);
 
 /// @brief Collects the per-frame stage times of a run.
 class StageTimes {
  public:
   void add(const TimingRow& row);
-  std::size_t frames() const { return total_.size(); }
+  std::size_t frames() const { return total_.count(); }
   /// @brief {"tracking": {mean_ms, median_ms, p99_ms, max_ms}, ...}
   nlohmann::json to_json() const;
 
  private:
-  std::vector<double> tracking_, propagation_, accel_, msckf_, marginalization_, total_;
+  StageStats tracking_, propagation_, accel_, msckf_, marginalization_, total_;
 };
 
 /// @brief Peak resident memory of this process [MiB].

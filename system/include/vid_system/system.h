@@ -147,7 +147,7 @@ class System {
   int restarts_ = 0;
   bool was_starving_ = false;    ///< the pipeline's starvation flag at the previous frame
   int starvation_warnings_ = 0;  ///< episodes warned about (the first 10)
-  std::vector<double> decode_ms_, tracking_cpu_ms_;
+  StageStats decode_ms_, tracking_cpu_ms_;
   double decode_cpu_ms_ = 0.0;
   double cpu_start_s_ = 0.0;
   std::function<void(const EstimateOutput&)> on_estimate_;

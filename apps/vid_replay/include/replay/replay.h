@@ -42,6 +42,11 @@ struct ReplayOptions {
   std::optional<double> end_s;              ///< none: to the end
   lcm_io::ChannelNames channels;
   FaultOptions faults;
+  /// Passes over the [start, end] window (soak tests). Pass k is shifted by k * P with P the
+  /// window's IMU span (last - first IMU time); a pass other than the last publishes the
+  /// measurements in [first, first + P), so streams on a common clock (the simulator's) stay
+  /// exactly regular across the seam. Each pass injects its own faults (options are per pass).
+  int loops = 1;
   bool progress = true;
 };
 
