@@ -301,7 +301,7 @@ void LiveEngine::publish_estimate(const system::System& s, const EstimateOutput&
   const auto now = SteadyClock::now();
   std::lock_guard<std::mutex> lock(mutex_);
   ++published_;
-  for (const auto& arrival : processed_arrivals_) latency_ms_.push_back(ms_between(arrival, now));
+  for (const auto& arrival : processed_arrivals_) latency_ms_.add(ms_between(arrival, now));
   processed_arrivals_.clear();
 }
 
@@ -372,8 +372,7 @@ nlohmann::json LiveEngine::summary() const {
   for (const auto& [name, value] : counters()) faults[name] = value;
   s["faults"] = faults;
   s["reinit_count"] = reinit_count_;
-  s["latency_image_to_state_ms"] = system::stage_stats(latency_ms_);
-  s["latency_image_to_state_ms"]["count"] = latency_ms_.size();
+  s["latency_image_to_state_ms"] = latency_ms_.to_json();
   s["live"] = {{"reorder_window_ms", static_cast<double>(opt_.reorder_window_ns) * 1e-6},
                {"max_queued_frames", opt_.max_queued_frames},
                {"overload", opt_.block_when_full ? "block" : "drop_oldest_frames"},

@@ -121,7 +121,7 @@ class LiveEngine {
   std::optional<TimeNs> first_t_, last_t_, last_frame_t_, last_status_t_;
   std::map<TimeNs, SteadyClock::time_point> frame_arrival_;     ///< frames pushed, not yet processed
   std::vector<SteadyClock::time_point> processed_arrivals_;     ///< processed, awaiting a state
-  std::vector<double> latency_ms_;
+  system::StageStats latency_ms_;
   SteadyClock::time_point wall_start_;
 };
 
