@@ -3,23 +3,43 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <string>
+
+#include <fmt/format.h>
 
 namespace vid::system {
 
 namespace {
+/// A stamp as evo holds it: the double nearest the decimal text of a TUM file (strtod rounds
+/// correctly, as Python's float() does), or double(ns) / 1e9 for an ASL CSV.
+std::vector<double> evo_seconds(const std::vector<TimeNs>& t, StampText text) {
+  std::vector<double> s(t.size());
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (text == StampText::kNanoseconds) {
+      s[i] = static_cast<double>(t[i]) / 1e9;
+    } else {
+      const TimeNs a = t[i] < 0 ? -t[i] : t[i];
+      const std::string dec = fmt::format("{}{}.{:09d}", t[i] < 0 ? "-" : "", a / 1'000'000'000, a % 1'000'000'000);
+      s[i] = std::strtod(dec.c_str(), nullptr);
+    }
+  }
+  return s;
+}
+
 /// For each of a (sorted) the nearest of sorted b within tol; ties go to the earlier sample.
-std::vector<std::pair<std::size_t, std::size_t>> nearest(const std::vector<TimeNs>& a, const std::vector<TimeNs>& b,
-                                                         TimeNs tol) {
+std::vector<std::pair<std::size_t, std::size_t>> nearest(const std::vector<double>& a, const std::vector<double>& b,
+                                                         double tol) {
   std::vector<std::pair<std::size_t, std::size_t>> out;
   if (a.empty() || b.empty()) return out;
   for (std::size_t i = 0; i < a.size(); ++i) {
-    const TimeNs s = a[i];
+    const double s = a[i];
     if (s < b.front() - tol || s > b.back() + tol) continue;
     std::size_t j = static_cast<std::size_t>(std::upper_bound(b.begin(), b.end(), s) - b.begin());
     j = std::min(j, b.size() - 1);
-    const TimeNs d_up = b[j] - s;
-    const TimeNs d_lo = j > 0 ? s - b[j - 1] : std::numeric_limits<TimeNs>::max();
+    const double d_up = b[j] - s;
+    const double d_lo = j > 0 ? s - b[j - 1] : std::numeric_limits<double>::infinity();
     if (d_up <= tol && d_up < d_lo) {
       out.emplace_back(i, j);
     } else if (d_lo <= tol && d_lo <= d_up) {
@@ -32,15 +52,19 @@ std::vector<std::pair<std::size_t, std::size_t>> nearest(const std::vector<TimeN
 
 std::vector<std::pair<std::size_t, std::size_t>> associate_nearest(const std::vector<TimeNs>& t_est,
                                                                    const std::vector<TimeNs>& t_gt,
-                                                                   TimeNs max_diff_ns) {
-  if (t_gt.size() > t_est.size()) return nearest(t_est, t_gt, max_diff_ns);
-  auto swapped = nearest(t_gt, t_est, max_diff_ns);
+                                                                   TimeNs max_diff_ns, StampText est_text,
+                                                                   StampText gt_text) {
+  const std::vector<double> s_est = evo_seconds(t_est, est_text), s_gt = evo_seconds(t_gt, gt_text);
+  const double tol = static_cast<double>(max_diff_ns) / 1e9;
+  if (t_est.size() <= t_gt.size()) return nearest(s_est, s_gt, tol);
+  auto swapped = nearest(s_gt, s_est, tol);
   for (auto& p : swapped) std::swap(p.first, p.second);
   return swapped;
 }
 
 std::optional<AteResult> ate_posyaw(const Vec3Series& est, const Vec3Series& gt) {
-  const auto pairs = associate_nearest(est.t_ns, gt.t_ns);
+  // As vid-eval pairs trajectory_tum.txt (seconds) with the ASL ground truth (ns).
+  const auto pairs = associate_nearest(est.t_ns, gt.t_ns, 10'000'000, StampText::kSeconds, StampText::kNanoseconds);
   if (pairs.empty()) return std::nullopt;
   const double n = static_cast<double>(pairs.size());
   Eigen::Vector3d mu_e = Eigen::Vector3d::Zero();

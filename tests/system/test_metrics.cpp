@@ -121,12 +121,12 @@ TEST(ForceRmse, WorldToBodyUsesTheNearestOrientation) {
   std::vector<TimeNs> t_R;
   std::vector<Eigen::Matrix3d> R_WI;
   for (int i = 0; i < 5; ++i) {
-    f_W.t_ns.push_back(i * 10'000'000LL);
+    f_W.t_ns.push_back(i * 20'000'000LL);
     f_W.v.emplace_back(1.0, 0.0, 0.0);
-    t_R.push_back(i * 10'000'000LL + 2'000'000);
+    t_R.push_back(i * 20'000'000LL + 2'000'000);
     R_WI.push_back(Eigen::AngleAxisd(0.5 * M_PI * i, Eigen::Vector3d::UnitZ()).toRotationMatrix());
   }
-  t_R.back() += 50'000'000;  // the last orientation is too far away: its force is dropped
+  t_R.back() += 50'000'000;  // no orientation within 10 ms of the last force: it is dropped
   const Vec3Series f_I = world_to_body(f_W, t_R, R_WI);
   ASSERT_EQ(f_I.t_ns.size(), 4u);
   EXPECT_LT((f_I.v[1] - Eigen::Vector3d(0.0, -1.0, 0.0)).norm(), 1e-12);  // R_WI^T x_W, yaw 90 deg

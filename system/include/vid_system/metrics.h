@@ -18,11 +18,19 @@ struct Vec3Series {
   std::vector<Eigen::Vector3d> v;
 };
 
-/// @brief Index pairs (est, gt) by evo's rule: walk the shorter series, take the nearest
-/// sample of the other within max_diff_ns (ties to the earlier one).
+/// @brief How a file writes its stamps: decimal seconds (TUM) or integer nanoseconds (ASL CSV).
+enum class StampText { kSeconds, kNanoseconds };
+
+/// @brief Index pairs (est, gt) by evo's rule, as vid-eval (eval/vid_eval/association.py) and
+/// evo find them in the written files: walk the shorter series (the estimate on equal counts),
+/// take the nearest sample of the other within max_diff_ns (ties to the earlier one), distances
+/// compared in double seconds as evo reads each file (@p est_text, @p gt_text), so near ties
+/// below a double's resolution at epoch times resolve as there.
 std::vector<std::pair<std::size_t, std::size_t>> associate_nearest(const std::vector<TimeNs>& t_est,
                                                                    const std::vector<TimeNs>& t_gt,
-                                                                   TimeNs max_diff_ns = 10'000'000);
+                                                                   TimeNs max_diff_ns = 10'000'000,
+                                                                   StampText est_text = StampText::kNanoseconds,
+                                                                   StampText gt_text = StampText::kNanoseconds);
 
 /// @brief Result of a trajectory comparison.
 struct AteResult {

@@ -19,7 +19,7 @@ namespace vid::system {
 /// (Masson et al., VLDB 2019) with a fixed range.
 class StageStats {
  public:
-  static constexpr std::size_t kExactSamples = 16384;
+  static constexpr std::size_t kExactSamples = 4096;
   static constexpr double kRelativeError = 0.005;
 
   void add(double ms);
