@@ -10,7 +10,6 @@ import argparse
 import sys
 from typing import List, Optional
 
-from . import __version__
 from .commands import bound, force, mass, report, traj
 from .errors import VidEvalError
 from .usage import OneLineParser
@@ -24,7 +23,6 @@ def build_parser() -> argparse.ArgumentParser:
         prog="vid-eval",
         description="Evaluate VID-MSCKF (or any estimator's) outputs: trajectory ATE/RPE, "
                     "external force, mass; plots and comparison tables.")
-    p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for mod in (traj, force, mass, report, bound):

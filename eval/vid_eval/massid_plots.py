@@ -22,6 +22,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .usage import OneLineParser  # noqa: E402
+
 PROFILE_ORDER = ["constant", "linear_decrease", "step_drop", "step_pickup", "up_down"]
 TRAJ_ORDER = ["random", "loop", "lemniscate", "zigzag", "square"]
 GRAVITY = 9.81
@@ -112,7 +114,7 @@ def plot_inputs(runs: dict[tuple[str, str], pathlib.Path], out: pathlib.Path) ->
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = OneLineParser(description=__doc__.splitlines()[0])
     ap.add_argument("--results", required=True, type=pathlib.Path, help="output folder of vid_massid run")
     ap.add_argument("--out", required=True, type=pathlib.Path, help="folder for the PNG files")
     a = ap.parse_args(argv)

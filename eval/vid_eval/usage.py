@@ -8,7 +8,13 @@ import sys
 
 
 class OneLineParser(argparse.ArgumentParser):
-    """argparse.ArgumentParser whose usage errors are one line; sub-parsers inherit it."""
+    """argparse.ArgumentParser whose usage errors are one line and which knows ``--version``
+    (the package version, from git); sub-parsers inherit it."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        from . import __version__
+        self.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
 
     def error(self, message: str):  # noqa: D401 - argparse's hook
         print(f"{self.prog}: error: {message} (see --help)", file=sys.stderr)

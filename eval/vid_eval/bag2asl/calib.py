@@ -2,6 +2,7 @@
 EuRoC/§4 sensor.yaml and vehicle.yaml files of the output folder, and the mass rule."""
 from __future__ import annotations
 
+import importlib.resources
 import pathlib
 import re
 
@@ -12,8 +13,8 @@ from .errors import ConfigError, UsageError
 from . import sinks
 from .sinks import fmt, os_error
 
-REPO = pathlib.Path(__file__).resolve().parents[3]
-DEFAULT_PRESET = REPO / "config" / "vid_dataset"
+# The VID-Dataset preset ships with the package (a link to config/vid_dataset in the source tree).
+DEFAULT_PRESET = pathlib.Path(str(importlib.resources.files("vid_eval.bag2asl") / "presets" / "vid_dataset"))
 
 _SEQ_NAME = re.compile(r"^(?:vid|seq|sequence)?[_-]?0*(\d{1,2})$", re.IGNORECASE)
 _GRAMS = re.compile(r"(?:^|_)(load)?(\d+(?:\.\d+)?)g(?=_|$)")

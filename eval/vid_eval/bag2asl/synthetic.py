@@ -17,6 +17,8 @@ from rosbags.rosbag1 import Writer as Writer1
 from rosbags.rosbag2 import Writer as Writer2
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
+from ..usage import OneLineParser
+
 MSG_DEFS = {
     "uavmotor/msg/motordata": "Header header\ntime hwts\nint16[4] data\n",
     "uavmotor/msg/m3508": "Header header\ntime hwts\nuint8 id\nint16 current\nint16 rpm\n",
@@ -212,7 +214,7 @@ def write_vid_bag(path: pathlib.Path, seconds: float, compression: str = "none",
 
 
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = OneLineParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("out", type=pathlib.Path)
     p.add_argument("--seconds", type=float, default=10.0)
     p.add_argument("--compression", choices=["none", "bz2", "lz4"], default="none")

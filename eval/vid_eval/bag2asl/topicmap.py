@@ -6,6 +6,7 @@ can prefer a consistent set of topics (e.g. VID-Dataset /synced/* on one clock) 
 """
 from __future__ import annotations
 
+import importlib.resources
 import pathlib
 import re
 from dataclasses import dataclass, field
@@ -21,7 +22,7 @@ _STREAM_KEYS = {"kind", "topics", "topic", "sources", "required", "stamp", "unit
                 "field", "mass_normalized", "rotation", "gyro_scale", "accel_scale", "noise_density"}
 _SOURCE_KEYS = {"label", "topic", "topics", "field", "stamp", "scale", "unit"}
 
-DEFAULT_MAP = pathlib.Path(__file__).resolve().parent / "topic_maps" / "vid_dataset.yaml"
+DEFAULT_MAP = pathlib.Path(str(importlib.resources.files("vid_eval.bag2asl") / "topic_maps" / "vid_dataset.yaml"))
 
 
 @dataclass
