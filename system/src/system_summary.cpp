@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "vid_system/system.h"
+#include "vid_version/version.h"
 
 namespace vid::system {
 
@@ -100,6 +101,7 @@ PipelineCounters System::counters() const {
 nlohmann::json System::summary() const {
   const SystemConfig& cfg = p_.config;
   nlohmann::json s;
+  s["version"] = {{"vid_msckf", version()}, {"git", git_sha()}};
   s["mode"] = to_string(cfg.estimator.mode);
   s["mode_source"] = p_.mode_source;
   s["init"] = to_string(cfg.estimator.init_mode);

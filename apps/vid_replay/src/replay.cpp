@@ -202,83 +202,83 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   po.decode_threads = 1;
   po.capacity = 256;
   for (int pass = 0; pass < loops && !stop.load(); ++pass) {
-  std::optional<io::DatasetReader> again;  // a pass reads the folder afresh
-  if (pass > 0) again.emplace(opt.dataset, ro);
-  app::Prefetcher prefetch(pass > 0 ? *again : reader, po);
-  if (!opt.fast) prefetch.wait_ready();
-  image_index.clear();
-  if (pass > 0) plan_malformed();
-  bool stalled = false;
-  const TimeNs shift = pass * period;
-  while (auto p = prefetch.next()) {
-    if (stop.load()) break;
-    const Measurement* m = &p->m;
-    const TimeNs t_data = stamp_of(*m);  // as recorded: fault plans and stalls refer to it
-    if (!t0) {
-      t0 = p->t0;
-      t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
-      if (opt.end_s) t_end = *t0 + static_cast<TimeNs>(*opt.end_s * 1e9);
-      if (opt.progress) bar = std::make_unique<app::ProgressBar>("vid_replay", 1.0);
-      t_first = t_data;
-      if (fo.malformed > 0 || opt.progress || loops > 1) read_imu_times(t_start, t_end);
-      if (loops > 1 && period <= 0) throw std::runtime_error(opt.dataset.string() + ": --loop needs at least two IMU samples");
-      plan_malformed();
-      if (fo.stall_start_s >= 0.0 && fo.stall_s > 0.0) {
-        stall_from = *t0 + static_cast<TimeNs>(fo.stall_start_s * 1e9);
-        stall_to = stall_from + static_cast<TimeNs>(fo.stall_s * 1e9);
+    std::optional<io::DatasetReader> again;  // a pass reads the folder afresh
+    if (pass > 0) again.emplace(opt.dataset, ro);
+    app::Prefetcher prefetch(pass > 0 ? *again : reader, po);
+    if (!opt.fast) prefetch.wait_ready();
+    image_index.clear();
+    if (pass > 0) plan_malformed();
+    bool stalled = false;
+    const TimeNs shift = pass * period;
+    while (auto p = prefetch.next()) {
+      if (stop.load()) break;
+      const Measurement* m = &p->m;
+      const TimeNs t_data = stamp_of(*m);  // as recorded: fault plans and stalls refer to it
+      if (!t0) {
+        t0 = p->t0;
+        t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
+        if (opt.end_s) t_end = *t0 + static_cast<TimeNs>(*opt.end_s * 1e9);
+        if (opt.progress) bar = std::make_unique<app::ProgressBar>("vid_replay", 1.0);
+        t_first = t_data;
+        if (fo.malformed > 0 || opt.progress || loops > 1) read_imu_times(t_start, t_end);
+        if (loops > 1 && period <= 0) throw std::runtime_error(opt.dataset.string() + ": --loop needs at least two IMU samples");
+        plan_malformed();
+        if (fo.stall_start_s >= 0.0 && fo.stall_s > 0.0) {
+          stall_from = *t0 + static_cast<TimeNs>(fo.stall_start_s * 1e9);
+          stall_to = stall_from + static_cast<TimeNs>(fo.stall_s * 1e9);
+        }
       }
+      if (pass + 1 < loops && t_data >= t_first + period) break;  // the next pass starts there
+      const TimeNs t = t_data + shift;
+      if (const auto* imu_data = std::get_if<ImuSample>(&*m)) {
+        ImuSample imu_shifted = *imu_data;
+        imu_shifted.t_ns = t;
+        const ImuSample* imu = &imu_shifted;
+        auto bytes = lcm_io::encode(lcm_io::to_lcm(*imu));
+        const TimeNs d = delay();
+        const bool dup = fo.duplicate_imu > 0.0 && U(rng) < fo.duplicate_imu;
+        enqueue(t, ch.imu, "imu", bytes, true, d);
+        if (dup) {
+          enqueue(t, ch.imu, "imu", std::move(bytes), false, d);  // published right after the original
+          ++duplicated;
+        }
+        if (malformed_at.count(t_data)) add_malformed(t);
+      } else if (const auto* r = std::get_if<RotorSample>(&*m)) {
+        RotorSample shifted = *r;
+        shifted.t_ns = t;
+        enqueue(t, ch.rotors, "rotors", lcm_io::encode(lcm_io::to_lcm(shifted, rotor_unit)), true, delay());
+      } else if (const auto* th = std::get_if<ThrustSample>(&*m)) {
+        ThrustSample shifted = *th;
+        shifted.t_ns = t;
+        enqueue(t, ch.thrust, "thrust", lcm_io::encode(lcm_io::to_lcm(shifted)), true, delay());
+      } else if (const auto* f = std::get_if<ImageFrame>(&*m)) {
+        for (const auto& [cam_id, g] : p->images) {
+          const std::size_t k = image_index[cam_id]++;
+          const std::string stream = "cam" + std::to_string(cam_id);
+          if (t_data >= stall_from && t_data < stall_to) {
+            ++stall_images[stream];
+            if (!stalled) ++camera_stalls;
+            stalled = true;
+            continue;
+          }
+          if (fo.drop_images > 0.0 && k >= 10 && k + 1 < image_count[cam_id] && U(rng) < fo.drop_images) {
+            ++dropped[stream];
+            continue;
+          }
+          if (g.empty()) {
+            ++unreadable;
+            for (const auto& ref : f->images)
+              if (ref.cam_id == cam_id) spdlog::warn("{}: unreadable image, not published", ref.path);
+            continue;
+          }
+          const image_t msg = lcm_io::make_image(t, cam_id, g.cols, g.rows, g.data, g.step[0]);
+          enqueue(t, cam_id == 0 ? ch.cam0 : ch.cam1, stream, lcm_io::encode(msg), true, delay());
+        }
+      }
+      send_until(t);
+      if (bar && imu_last > t_start)
+        bar->update((pass + std::clamp(ns_to_s(t_data - t_start) / ns_to_s(imu_last - t_start), 0.0, 1.0)) / loops);
     }
-    if (pass + 1 < loops && t_data >= t_first + period) break;  // the next pass starts there
-    const TimeNs t = t_data + shift;
-    if (const auto* imu_data = std::get_if<ImuSample>(&*m)) {
-      ImuSample imu_shifted = *imu_data;
-      imu_shifted.t_ns = t;
-      const ImuSample* imu = &imu_shifted;
-      auto bytes = lcm_io::encode(lcm_io::to_lcm(*imu));
-      const TimeNs d = delay();
-      const bool dup = fo.duplicate_imu > 0.0 && U(rng) < fo.duplicate_imu;
-      enqueue(t, ch.imu, "imu", bytes, true, d);
-      if (dup) {
-        enqueue(t, ch.imu, "imu", std::move(bytes), false, d);  // published right after the original
-        ++duplicated;
-      }
-      if (malformed_at.count(t_data)) add_malformed(t);
-    } else if (const auto* r = std::get_if<RotorSample>(&*m)) {
-      RotorSample shifted = *r;
-      shifted.t_ns = t;
-      enqueue(t, ch.rotors, "rotors", lcm_io::encode(lcm_io::to_lcm(shifted, rotor_unit)), true, delay());
-    } else if (const auto* th = std::get_if<ThrustSample>(&*m)) {
-      ThrustSample shifted = *th;
-      shifted.t_ns = t;
-      enqueue(t, ch.thrust, "thrust", lcm_io::encode(lcm_io::to_lcm(shifted)), true, delay());
-    } else if (const auto* f = std::get_if<ImageFrame>(&*m)) {
-      for (const auto& [cam_id, g] : p->images) {
-        const std::size_t k = image_index[cam_id]++;
-        const std::string stream = "cam" + std::to_string(cam_id);
-        if (t_data >= stall_from && t_data < stall_to) {
-          ++stall_images[stream];
-          if (!stalled) ++camera_stalls;
-          stalled = true;
-          continue;
-        }
-        if (fo.drop_images > 0.0 && k >= 10 && k + 1 < image_count[cam_id] && U(rng) < fo.drop_images) {
-          ++dropped[stream];
-          continue;
-        }
-        if (g.empty()) {
-          ++unreadable;
-          for (const auto& ref : f->images)
-            if (ref.cam_id == cam_id) spdlog::warn("{}: unreadable image, not published", ref.path);
-          continue;
-        }
-        const image_t msg = lcm_io::make_image(t, cam_id, g.cols, g.rows, g.data, g.step[0]);
-        enqueue(t, cam_id == 0 ? ch.cam0 : ch.cam1, stream, lcm_io::encode(msg), true, delay());
-      }
-    }
-    send_until(t);
-    if (bar && imu_last > t_start)
-      bar->update((pass + std::clamp(ns_to_s(t_data - t_start) / ns_to_s(imu_last - t_start), 0.0, 1.0)) / loops);
-  }
   }
   send_until(INT64_MAX);
   if (bar) bar->finish();
