@@ -6,7 +6,7 @@ with --sim SEQ, a short simulated sequence (vid_sim --features-only --duration 0
 stream of the dataset format has a valid example. CSV files are cut to a few rows: the fuzzer
 needs the shapes, not the data, and the committed corpora stay a few KB each.
 
-Usage: python3 fuzz/make_seeds.py [--sim SEQ]   (needs lcm-gen and the `lcm` Python package)
+Usage: .venv/bin/python fuzz/make_seeds.py [--sim SEQ]   (needs lcm-gen and the eval[test] venv)
 """
 import argparse
 import pathlib
@@ -106,16 +106,65 @@ def lcm_seeds() -> None:
     put("lcm", "url_out", "9udpm://239.255.76.67:7667?ttl=1&recv_buf_size=1000&transmit_only=true")
 
 
+def py_loader_seeds() -> None:
+    sys.path.insert(0, str(ROOT / "eval"))
+    from vid_eval import formats
+
+    def table(names, row):
+        return "#" + ",".join(names) + "\n" + "".join(",".join(str(v) for v in r) + "\n" for r in row)
+
+    # byte 0 picks the loader (fuzz/py/loaders_fuzz.py)
+    put("py_loaders", "tum", "0# t x y z qx qy qz qw\n1.0 0 0 0 0 0 0 1\n1.5 1 2 3 0 0 0.7071 0.7071\n")
+    put("py_loaders", "euroc", "1" + head(EUROC / "state_groundtruth_estimate0" / "data.csv", 2))
+    state = [n for n, _ in formats.STATE_COLUMNS]
+    row = [1000] + [0.0] * (len(state) - 1)
+    row[state.index("q_w")] = 1.0
+    put("py_loaders", "state", "2" + table(state, [row, [2000] + row[1:]]))
+    put("py_loaders", "detect_txt", "3 1.0 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n")
+    put("py_loaders", "detect_csv", "4" + head(EUROC / "state_groundtruth_estimate0" / "data.csv", 2))
+    force = [n for n, _ in formats.FORCE_COLUMNS]
+    put("py_loaders", "force", "5" + table(force, [[1000] + [0.5] * (len(force) - 1)]))
+    put("py_loaders", "force0", "6#timestamp [ns],f_x [N],f_y [N],f_z [N]\n1,0,0,-30\n2,0.1,0,-30\n")
+    put("py_loaders", "mass", "7#timestamp [ns],mass [kg]\n1,3.1\n2,3.2\n")
+    put("py_loaders", "phase", "8#timestamp [ns],phase\n1,0\n2,1\n")
+    put("py_loaders", "vehicle", "9" + (ROOT / "config" / "vid_dataset" / "vehicle.yaml").read_text())
+
+
+def py_bag_seeds() -> None:
+    import numpy as np
+
+    sys.path.insert(0, str(ROOT / "eval"))
+    from vid_eval.bag2asl.synthetic import BagWriter
+
+    t0, ms = 1_600_000_000_000_000_000, 1_000_000
+    with tempfile.TemporaryDirectory() as tmp:
+        for compression in ("none", "bz2", "lz4"):
+            path = pathlib.Path(tmp) / f"{compression}.bag"
+            w = BagWriter(path, compression=compression)
+            w.w.chunk_threshold = 300  # several chunks
+            for k in range(4):
+                t = t0 + k * ms
+                w.write("/imu", "sensor_msgs/msg/Imu", t, w.imu(t, (0, 0, k), (0, 0, 9.81)))
+                w.write("/motor", "uavmotor/msg/motordata", t, w.motordata(t, t, [k, 1, 2, 3]))
+            if compression == "none":
+                img = np.arange(8 * 4, dtype=np.uint8).reshape(4, 8)
+                w.write("/cam", "sensor_msgs/msg/Image", t0, w.image(t0, "mono8", img))
+            w.close()
+            put("py_bag", compression, path.read_bytes())
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sim", type=pathlib.Path, help="a vid_sim --features-only sequence folder")
     args = ap.parse_args()
-    for t in ("csv", "dataset", "yaml", "lcm"):
+    for t in ("csv", "dataset", "yaml", "lcm", "py_loaders", "py_bag"):
         shutil.rmtree(OUT / t, ignore_errors=True)
     csv_seeds()
     dataset_seeds(args.sim)
     yaml_seeds(args.sim)
     lcm_seeds()
+    py_loader_seeds()
+    py_bag_seeds()
     return 0
 
 
