@@ -30,12 +30,18 @@ for t in "${TARGETS[@]}"; do
 done
 PY="${VID_PYTHON:-$ROOT/.venv/bin/python}"
 
+if [[ "$ONLY" == *py_* ]] && ! "$PY" -c "import atheris" 2>/dev/null; then
+  echo "fuzz/run.sh: $PY has no atheris (bash scripts/setup.sh installs it)" >&2; exit 1
+fi
 if ((DO_BUILD)); then
   # Only the io sources and the targets (fuzz/CMakeLists.txt), not the whole project.
-  CC=clang CXX=clang++ cmake -S "$ROOT/fuzz" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE= >"$BUILD.cmake.log" 2>&1 \
-    || { cat "$BUILD.cmake.log" >&2; echo "fuzz/run.sh: cmake failed" >&2; exit 1; }
-  cmake --build "$BUILD" -j"${VID_JOBS:-2}" >"$BUILD/build.log" 2>&1 \
-    || { tail -30 "$BUILD/build.log" >&2; echo "fuzz/run.sh: build failed" >&2; exit 1; }
+  mkdir -p "$BUILD"
+  { CC=clang CXX=clang++ cmake -S "$ROOT/fuzz" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE= &&
+    cmake --build "$BUILD" -j"${VID_JOBS:-2}"; } >"$BUILD/build.log" 2>&1 \
+    || { tail -30 "$BUILD/build.log" >&2; echo "fuzz/run.sh: build failed (log $BUILD/build.log)" >&2; exit 1; }
+  # The crash inputs found so far must pass under the sanitizers before fuzzing goes on.
+  "$BUILD/fuzz_regressions" --gtest_brief=1 >"$BUILD/regressions.log" 2>&1 \
+    || { cat "$BUILD/regressions.log" >&2; echo "fuzz/run.sh: regression tests failed" >&2; exit 1; }
 fi
 
 failed=0
