@@ -18,9 +18,14 @@ namespace vid::fuzz {
 /// on tmpfs when available so the per-input file writes stay cheap.
 inline const std::filesystem::path& scratch_dir() {
   static const std::filesystem::path dir = [] {
-    const char* base = std::filesystem::is_directory("/dev/shm") ? "/dev/shm" : "/tmp";
+    const char* env = std::getenv("VID_FUZZ_SCRATCH");  // run.sh's folder, removed after the run
+    const char* base = env ? env : std::filesystem::is_directory("/dev/shm") ? "/dev/shm" : "/tmp";
     std::string templ = std::string(base) + "/vid_fuzz_XXXXXX";
     if (mkdtemp(templ.data()) == nullptr) std::abort();
+    std::atexit([] {  // libFuzzer exits normally at -max_total_time; a crash leaves it for study
+      std::error_code ec;
+      std::filesystem::remove_all(scratch_dir(), ec);
+    });
     return std::filesystem::path(templ);
   }();
   return dir;

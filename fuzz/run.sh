@@ -44,6 +44,11 @@ if ((DO_BUILD)); then
     || { cat "$BUILD/regressions.log" >&2; echo "fuzz/run.sh: regression tests failed" >&2; exit 1; }
 fi
 
+# Scratch files of the targets (tmpfs when there is one); atheris exits without cleaning up.
+SCRATCH="$(mktemp -d "$( [[ -d /dev/shm ]] && echo /dev/shm || echo "${TMPDIR:-/tmp}")/vid_fuzz.XXXXXX")"
+trap 'rm -rf "$SCRATCH"' EXIT
+export VID_FUZZ_SCRATCH="$SCRATCH"
+
 failed=0
 for t in "${TARGETS[@]}"; do
   corpus="$BUILD/corpus/$t" crashes="$BUILD/crashes/$t" log="$BUILD/logs/$t.log"

@@ -23,7 +23,8 @@ with atheris.instrument_imports():
     from vid_eval.bag2asl.errors import Bag2AslError
     from vid_eval.bag2asl.ros1reader import Ros1FormatError, Ros1Reader
 
-_DIR = tempfile.mkdtemp(prefix="vid_fuzz_bag_", dir="/dev/shm" if os.path.isdir("/dev/shm") else None)
+_DIR = tempfile.mkdtemp(prefix="vid_fuzz_bag_", dir=os.environ.get("VID_FUZZ_SCRATCH")
+                        or ("/dev/shm" if os.path.isdir("/dev/shm") else None))
 _PATH = pathlib.Path(_DIR) / "in.bag"
 _MAX_MESSAGES = 200
 

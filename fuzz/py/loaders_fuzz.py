@@ -21,8 +21,9 @@ with atheris.instrument_imports():
     from vid_eval import loaders
     from vid_eval.errors import VidEvalError
 
-# tmpfs when there is one: a file is written per input
-_DIR = tempfile.mkdtemp(prefix="vid_fuzz_py_", dir="/dev/shm" if os.path.isdir("/dev/shm") else None)
+# run.sh's scratch folder (removed after the run), else tmpfs: a file is written per input
+_DIR = tempfile.mkdtemp(prefix="vid_fuzz_py_", dir=os.environ.get("VID_FUZZ_SCRATCH")
+                        or ("/dev/shm" if os.path.isdir("/dev/shm") else None))
 _LOADERS = [loaders.load_tum, loaders.load_euroc_pose_csv, loaders.load_state, loaders.load_trajectory,
             loaders.load_trajectory, loaders.load_force_estimate, loaders.load_force_gt, loaders.load_mass,
             loaders.load_phases, loaders.load_vehicle_mass]
