@@ -12,6 +12,6 @@ ctest_rc=$?
 "$ROOT/.venv/bin/python" -m pytest "$ROOT/tests/python" -q -p no:cacheprovider
 pytest_rc=$?
 # Fuzz smoke (issue #26): build fuzz/ (io sources only) and run each target VID_FUZZ_SECONDS.
-bash "$ROOT/fuzz/run.sh" --seconds "${VID_FUZZ_SECONDS:-20}" --build "${VID_FUZZ_BUILD_DIR:-$ROOT/build-fuzz}"
+bash "$ROOT/fuzz/run.sh" --seconds "${VID_FUZZ_SECONDS:-15}" --build "${VID_FUZZ_BUILD_DIR:-$ROOT/build-fuzz}"
 fuzz_rc=$?
 [[ $ctest_rc -eq 0 && $pytest_rc -eq 0 && $fuzz_rc -eq 0 ]]
