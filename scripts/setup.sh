@@ -15,12 +15,14 @@ for arg in "$@"; do
   esac
 done
 
+# clang + libclang-rt-14-dev (libFuzzer, sanitizer runtimes): the fuzz targets of fuzz/.
 APT_PKGS=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev libopencv-dev libceres-dev libsuitesparse-dev libyaml-cpp-dev
   liblcm-dev liblcm-bin libcli11-dev libspdlog-dev libfmt-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   python3 python3-venv python3-dev
+  clang libclang-rt-14-dev
 )
 # bench/peers/openvins (OpenVINS without ROS): Boost; only with --peers.
 PEER_APT_PKGS=(
@@ -54,7 +56,7 @@ REQ_HASH="$(cat "$ROOT/eval/pyproject.toml" "$ROOT/scripts/setup.sh" | sha256sum
 if [[ ! -f "$STAMP" || "$(cat "$STAMP")" != "$REQ_HASH" ]]; then
   echo "[setup] installing python packages into .venv"
   "$VENV/bin/pip" install -q --upgrade pip
-  "$VENV/bin/pip" install -q -e "$ROOT/eval[test,batch]"
+  "$VENV/bin/pip" install -q -e "$ROOT/eval[test,batch,fuzz]"
   echo "$REQ_HASH" > "$STAMP"
 else
   echo "[setup] python venv up to date"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The README's test command: install dependencies, build, run every C++ and Python test.
-# The closing lines are CTest's and pytest's summaries.
+# The closing lines are CTest's and pytest's summaries, then one line per fuzz target.
 set -uo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${VID_BUILD_DIR:-$ROOT/build}"
@@ -11,4 +11,7 @@ ctest --test-dir "$BUILD" -j"${VID_JOBS:-2}" --output-on-failure --timeout 1200
 ctest_rc=$?
 "$ROOT/.venv/bin/python" -m pytest "$ROOT/tests/python" -q -p no:cacheprovider
 pytest_rc=$?
-[[ $ctest_rc -eq 0 && $pytest_rc -eq 0 ]]
+# Fuzz smoke (issue #26): build fuzz/ (io sources only) and run each target VID_FUZZ_SECONDS.
+bash "$ROOT/fuzz/run.sh" --seconds "${VID_FUZZ_SECONDS:-15}" --build "${VID_FUZZ_BUILD_DIR:-$ROOT/build-fuzz}"
+fuzz_rc=$?
+[[ $ctest_rc -eq 0 && $pytest_rc -eq 0 && $fuzz_rc -eq 0 ]]

@@ -15,7 +15,7 @@ import yaml
 from . import formats
 from .errors import InputFormatError, PathLike
 from .series import ScalarSeries, StateSeries, Trajectory, VectorSeries
-from .table_reader import Table, read_table
+from .table_reader import Table, not_utf8, read_table
 
 TRAJ_FORMATS = ("tum", "euroc", "state")
 
@@ -83,17 +83,20 @@ def detect_trajectory_format(path: PathLike) -> str:
     if not os.path.isfile(spath):
         raise InputFormatError(spath, "no such trajectory file")
     header = None
-    with open(spath, "r", encoding="utf-8") as handle:
-        for raw in handle:
-            text = raw.strip()
-            if not text:
-                continue
-            if text.startswith("#"):
-                header = header or text
-                continue
-            if "," not in text:
-                return "tum"
-            break
+    try:
+        with open(spath, "r", encoding="utf-8") as handle:
+            for raw in handle:
+                text = raw.strip()
+                if not text:
+                    continue
+                if text.startswith("#"):
+                    header = header or text
+                    continue
+                if "," not in text:
+                    return "tum"
+                break
+    except UnicodeDecodeError:
+        raise not_utf8(spath, "trajectory") from None
     if header is not None and formats.header_names(header)[:2] == ["timestamp", "p_x"] and \
             "sigma_f_x" in formats.header_names(header):
         return "state"
@@ -163,6 +166,8 @@ def load_vehicle_mass(path: PathLike) -> float:
             text = handle.read()
     except OSError as exc:
         raise InputFormatError(spath, f"cannot open: {exc.strerror}") from None
+    except UnicodeDecodeError:
+        raise not_utf8(spath, "vehicle.yaml") from None
     if text.startswith("%YAML"):
         text = text.split("\n", 1)[1] if "\n" in text else ""
     try:
@@ -170,11 +175,15 @@ def load_vehicle_mass(path: PathLike) -> float:
     except yaml.YAMLError as exc:
         line = getattr(getattr(exc, "problem_mark", None), "line", None)
         raise InputFormatError(spath, "invalid YAML", None if line is None else line + 1) from None
+    except ValueError as exc:  # a value PyYAML resolves but cannot build, e.g. date 2001-13-01
+        raise InputFormatError(spath, f"invalid YAML value ({exc})") from None
+    except RecursionError:  # PyYAML composes nested collections recursively
+        raise InputFormatError(spath, "invalid YAML (nested too deeply)") from None
     if not isinstance(data, dict) or "mass_kg" not in data:
         raise InputFormatError(spath, "key 'mass_kg' missing")
     try:
         mass = float(data["mass_kg"])
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an integer beyond float
         raise InputFormatError(spath, "key 'mass_kg' is not a number") from None
     if not mass > 0.0:
         raise InputFormatError(spath, "key 'mass_kg' must be positive")

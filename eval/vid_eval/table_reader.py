@@ -17,6 +17,9 @@ from .errors import InputFormatError, PathLike
 from .formats import header_names
 
 
+_INT64_MIN, _INT64_MAX = -(2**63), 2**63 - 1
+
+
 @dataclass
 class Table:
     """A parsed table: exact int64 ns time column, float values of the other columns."""
@@ -36,9 +39,15 @@ def _parse_time(token: str, unit_seconds: bool, path: str, line: int, column: st
         raise InputFormatError(path, f"{column}: timestamp '{token}' is not a number", line) from None
     if not value.is_finite():
         raise InputFormatError(path, f"{column}: timestamp '{token}' is not finite", line)
-    if unit_seconds:
-        value = value * Decimal(1_000_000_000)
-    return int(value.to_integral_value())
+    # int64 nanoseconds hold +-292 years; checked on the exponent first, so that '1e999999'
+    # neither overflows the decimal context nor builds a million-digit integer.
+    ns = None
+    if value.adjusted() < 30:
+        ns = int((value * Decimal(1_000_000_000) if unit_seconds else value).to_integral_value())
+    if ns is None or not _INT64_MIN <= ns <= _INT64_MAX:
+        raise InputFormatError(path, f"{column}: timestamp '{token}' is out of range "
+                                     "(int64 nanoseconds)", line)
+    return ns
 
 
 def read_table(
@@ -67,55 +76,75 @@ def read_table(
     allowed = set(columns)
     if not os.path.isfile(spath):
         raise InputFormatError(spath, f"no such {what} file")
-    header: Optional[str] = None
-    header_lineno = 1
-    times: List[int] = []
-    rows: List[List[float]] = []
-    lines: List[int] = []
     try:
         handle = open(spath, "r", encoding="utf-8")
     except OSError as exc:
         raise InputFormatError(spath, f"cannot open: {exc.strerror}") from None
     with handle:
-        for lineno, raw in enumerate(handle, start=1):
-            text = raw.strip()
-            if not text:
-                continue
-            if text.startswith("#") or text.startswith("%"):
-                if header is None and not rows:
-                    header, header_lineno = text, lineno
-                continue
-            tokens = [t.strip() for t in (text.split(delimiter) if delimiter else text.split())]
-            if len(tokens) not in allowed:
-                want = _describe(allowed)
-                raise InputFormatError(
-                    spath, f"{what}: expected {want} columns, found {len(tokens)}", lineno
-                )
-            if rows and len(tokens) - 1 != len(rows[0]):
-                raise InputFormatError(
-                    spath, f"{what}: {len(tokens)} columns, earlier rows have {len(rows[0]) + 1}",
-                    lineno,
-                )
-            column = lambda i: _column(i, header, len(tokens))  # noqa: E731
-            t = _parse_time(tokens[0], time_in_seconds, spath, lineno, column(0))
-            try:
-                vals = [float(x) for x in tokens[1:]]
-            except ValueError:
-                col = next(i for i, x in enumerate(tokens) if i and not _is_float(x))
-                raise InputFormatError(spath, f"{what}: {column(col)}: value '{tokens[col]}' "
-                                              f"is not a number", lineno) from None
-            if not all(np.isfinite(vals)):
-                col = 1 + int(np.flatnonzero(~np.isfinite(vals))[0])
-                raise InputFormatError(spath, f"{what}: {column(col)}: non-finite value "
-                                              f"'{tokens[col]}'", lineno)
-            if times and t <= times[-1]:
-                kind = "repeated" if t == times[-1] else "decreasing"
-                raise InputFormatError(
-                    spath, f"{what}: timestamps not strictly increasing ({kind} timestamp)", lineno
-                )
-            times.append(t)
-            rows.append(vals)
-            lines.append(lineno)
+        try:
+            return _read_rows(handle, spath, allowed, delimiter, time_in_seconds, expected_names, what)
+        except UnicodeDecodeError:
+            raise not_utf8(spath, what) from None
+
+
+def not_utf8(path: str, what: str) -> InputFormatError:
+    """The error for a file that is not UTF-8 text, at the line of its first bad byte."""
+    with open(path, "rb") as handle:
+        raw = handle.read()
+    try:
+        raw.decode("utf-8")
+    except UnicodeDecodeError as err:
+        return InputFormatError(path, f"{what}: not UTF-8 text (byte 0x{raw[err.start]:02x})",
+                                raw.count(b"\n", 0, err.start) + 1)
+    return InputFormatError(path, f"{what}: not UTF-8 text")
+
+
+def _read_rows(handle, spath: str, allowed: set, delimiter: Optional[str], time_in_seconds: bool,
+               expected_names: Optional[Sequence[str]], what: str) -> Table:
+    header: Optional[str] = None
+    header_lineno = 1
+    times: List[int] = []
+    rows: List[List[float]] = []
+    lines: List[int] = []
+    for lineno, raw in enumerate(handle, start=1):
+        text = raw.strip()
+        if not text:
+            continue
+        if text.startswith("#") or text.startswith("%"):
+            if header is None and not rows:
+                header, header_lineno = text, lineno
+            continue
+        tokens = [t.strip() for t in (text.split(delimiter) if delimiter else text.split())]
+        if len(tokens) not in allowed:
+            want = _describe(allowed)
+            raise InputFormatError(
+                spath, f"{what}: expected {want} columns, found {len(tokens)}", lineno
+            )
+        if rows and len(tokens) - 1 != len(rows[0]):
+            raise InputFormatError(
+                spath, f"{what}: {len(tokens)} columns, earlier rows have {len(rows[0]) + 1}",
+                lineno,
+            )
+        column = lambda i: _column(i, header, len(tokens))  # noqa: E731
+        t = _parse_time(tokens[0], time_in_seconds, spath, lineno, column(0))
+        try:
+            vals = [float(x) for x in tokens[1:]]
+        except ValueError:
+            col = next(i for i, x in enumerate(tokens) if i and not _is_float(x))
+            raise InputFormatError(spath, f"{what}: {column(col)}: value '{tokens[col]}' "
+                                          f"is not a number", lineno) from None
+        if not all(np.isfinite(vals)):
+            col = 1 + int(np.flatnonzero(~np.isfinite(vals))[0])
+            raise InputFormatError(spath, f"{what}: {column(col)}: non-finite value "
+                                          f"'{tokens[col]}'", lineno)
+        if times and t <= times[-1]:
+            kind = "repeated" if t == times[-1] else "decreasing"
+            raise InputFormatError(
+                spath, f"{what}: timestamps not strictly increasing ({kind} timestamp)", lineno
+            )
+        times.append(t)
+        rows.append(vals)
+        lines.append(lineno)
     if not rows:
         raise InputFormatError(spath, f"{what}: no data rows (empty file)")
     if expected_names is not None and header is not None:

@@ -2,12 +2,90 @@
 
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 namespace vid::lcm_io {
 
 namespace {
 bool finite3(const double* v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+
+/// Walks the length fields of an LCM payload. lcm-gen's decoders trust them: an array is
+/// allocated before its bytes are checked, and a string length of INT32_MIN overflows.
+class LengthWalk {
+ public:
+  LengthWalk(const void* data, std::size_t size) : p_(static_cast<const std::uint8_t*>(data)), size_(size) {}
+  /// Skip @p n fixed bytes.
+  void skip(std::int64_t n) { at_ += n; }
+  /// Read an int32 length field; nullopt (and stop) when cut off: the decoder rejects that.
+  std::optional<std::int64_t> length() {
+    if (!ok() || at_ + 4 > static_cast<std::int64_t>(size_)) return stop();
+    const std::uint8_t* b = p_ + at_;
+    at_ += 4;
+    return static_cast<std::int32_t>((std::uint32_t{b[0]} << 24) | (std::uint32_t{b[1]} << 16) |
+                                     (std::uint32_t{b[2]} << 8) | std::uint32_t{b[3]});
+  }
+  /// Check an array of @p count elements of at least @p bytes each; false records why.
+  bool array(std::optional<std::int64_t> count, std::int64_t bytes, const char* field) {
+    if (!count) return false;
+    if (*count < 0 || *count * bytes > static_cast<std::int64_t>(size_) - at_) {
+      why_ = std::string(field) + " " + std::to_string(*count) + " exceeds the payload";
+      return false;
+    }
+    return true;
+  }
+  /// Check and skip a string (length with its NUL, at least 1).
+  bool string(const char* field) {
+    const auto len = length();
+    if (len && *len < 1) why_ = std::string(field) + ": string length " + std::to_string(*len);
+    if (!len || *len < 1 || !array(len, 1, field)) return false;
+    at_ += *len;
+    return true;
+  }
+  const std::string& why() const { return why_; }
+
+ private:
+  bool ok() const { return why_.empty() && !stopped_; }
+  std::nullopt_t stop() {
+    stopped_ = true;
+    return std::nullopt;
+  }
+  const std::uint8_t* p_;
+  std::size_t size_;
+  std::int64_t at_ = 8;  // after the fingerprint
+  bool stopped_ = false;
+  std::string why_;
+};
 }  // namespace
+
+namespace detail {
+// Field order follows io/lcm/*.lcm; types without strings or arrays need no check.
+std::string check_array_lengths(const std::string& type_name, const void* data, std::size_t size) {
+  LengthWalk w(data, size);
+  if (type_name == "image_t") {  // timestamp, camera_id, width, height, encoding, size, data[size]
+    w.skip(8 + 12);
+    if (w.string("encoding")) w.array(w.length(), 1, "size");
+  } else if (type_name == "rotor_speeds_t") {  // timestamp, count, speeds[count], unit
+    w.skip(8);
+    const auto count = w.length();
+    if (w.array(count, 8, "count")) {
+      w.skip(*count * 8);
+      w.string("unit");
+    }
+  } else if (type_name == "status_t") {  // timestamp, status, 3 strings, reinit_count, n, names[n], values[n]
+    w.skip(8 + 1);
+    if (w.string("status_text") && w.string("message") && w.string("flight_phase")) {
+      w.skip(4);
+      const auto n = w.length();
+      // each counter: a name (4-byte length, at least its NUL) and an 8-byte value
+      if (w.array(n, 13, "num_counters")) {
+        for (std::int64_t i = 0; i < *n && w.string("counter_names"); ++i) {
+        }
+      }
+    }
+  }
+  return w.why();
+}
+}  // namespace detail
 
 imu_t to_lcm(const ImuSample& s) {
   imu_t m;

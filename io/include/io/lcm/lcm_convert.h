@@ -27,10 +27,20 @@ class DecodeError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+namespace detail {
+/// @brief Empty when every array length field of an LCM payload of type @p type_name fits in
+/// its @p size bytes, else why not. lcm-gen's decoders allocate an array from its length field
+/// before checking the bytes exist, so a 40-byte packet could make them allocate gigabytes.
+std::string check_array_lengths(const std::string& type_name, const void* data, std::size_t size);
+}  // namespace detail
+
 /// @brief Decode @p size bytes as LCM type T; throws DecodeError naming @p channel on failure
-/// (wrong fingerprint, truncated, absurd array length).
+/// (wrong fingerprint, truncated, array length beyond the payload).
 template <class T>
 T decode(const void* data, std::size_t size, const std::string& channel) {
+  if (std::string why = detail::check_array_lengths(T::getTypeName(), data, size); !why.empty())
+    throw DecodeError(channel + ": payload of " + std::to_string(size) + " bytes does not decode as " +
+                      T::getTypeName() + ": " + why);
   T msg;
   bool ok = size <= static_cast<std::size_t>(INT32_MAX);
   try {  // a corrupted length field can make the generated code allocate absurd sizes
