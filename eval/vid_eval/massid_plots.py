@@ -22,7 +22,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .usage import OneLineParser  # noqa: E402
+from vid_eval.usage import OneLineParser  # noqa: E402  (run as a script by vid_massid)
 
 PROFILE_ORDER = ["constant", "linear_decrease", "step_drop", "step_pickup", "up_down"]
 TRAJ_ORDER = ["random", "loop", "lemniscate", "zigzag", "square"]
