@@ -202,7 +202,11 @@ def main(argv: Optional[List[str]] = None) -> int:
                       flush=True)
             next_sample += args.sample_s
         time.sleep(min(0.2, args.sample_s))
+    if replay and replay.poll() is None and live_rc != 0:
+        replay.terminate()  # vid_live stopped early: no point publishing the rest of the hour
     replay_rc = replay.wait() if replay else 0
+    replay_err.close()
+    live_err.close()
     if args.transport == "log" and log_path.exists():
         log_path.unlink()  # ~20 MB per second of stereo images
     result = {"transport": args.transport, "loops": loops, "pass_s": span_ns * 1e-9,
