@@ -56,7 +56,7 @@ REQ_HASH="$(cat "$ROOT/eval/pyproject.toml" "$ROOT/scripts/setup.sh" | sha256sum
 if [[ ! -f "$STAMP" || "$(cat "$STAMP")" != "$REQ_HASH" ]]; then
   echo "[setup] installing python packages into .venv"
   "$VENV/bin/pip" install -q --upgrade pip
-  "$VENV/bin/pip" install -q -e "$ROOT/eval[test,batch,fuzz]"
+  "$VENV/bin/pip" install -q -e "$ROOT/eval[test,batch,fuzz,view]"
   echo "$REQ_HASH" > "$STAMP"
 else
   echo "[setup] python venv up to date"

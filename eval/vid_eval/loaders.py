@@ -225,3 +225,10 @@ def load_nees(path: PathLike) -> NeesCurves:
     v = tab.values
     return NeesCurves(tab.t_ns, v[:, 0].copy(), v[:, 1].copy(), v[:, 2].copy(), int(meta["runs"]),
                       meta["band_lo"], meta["band_hi"], tab.path)
+
+
+def load_tracks(path: PathLike) -> Table:
+    """Tracked features (:data:`formats.TRACKS_COLUMNS`); ``values`` columns: cam_id,
+    feature_id, u, v."""
+    names = [n for n, _ in formats.TRACKS_COLUMNS]
+    return read_table(path, {len(names)}, expected_names=names, what="tracks CSV", repeated_times=True)
