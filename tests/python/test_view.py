@@ -109,3 +109,27 @@ def test_vid_run_rerun_recording_of_a_simulated_run(short_seq, tmp_path):
                         "--out", tmp_path / "tracks.csv"], capture_output=True, text=True, timeout=300)
     assert t.returncode == 0, t.stderr
     assert _tracks_by_frame(out / "tracks.csv") == _tracks_by_frame(tmp_path / "tracks.csv")
+
+
+def test_vid_eval_view_follows_vid_live_over_lcm(short_seq, tmp_path):
+    """vid_replay -> event log -> vid_live (publishing into a second log) -> vid-eval view --lcm:
+    one pose per VID_STATE message (= a state.csv row of vid_live's --out) and one arrow per
+    VID_FORCE message; the status log arrives too."""
+    from test_live import live
+
+    log, pub = tmp_path / "sensors.log", tmp_path / "published.log"
+    r = subprocess.run([program("vid_replay"), "--dataset", short_seq, "--lcm-url", "memq://", "--fast", "--end", "3",
+                        "--log", log, "--quiet"], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    out = tmp_path / "live"
+    live(short_seq, log, out, "--publish-url", f"file://{pub}?mode=w")
+    rrd = tmp_path / "live.rrd"
+    proc = run_cli_in_process("view", "--lcm", f"file://{pub}?speed=0", "--lcm-types", build_dir() / "python",
+                              "--idle-timeout", "2", "--rrd", rrd)
+    assert proc.returncode == 0, proc.stderr
+    got = rows_per_entity(rrd)
+    states = len((out / "state.csv").read_text().splitlines()) - 1
+    assert got["/world/vehicle"] == states + 1 > 1  # a pose per message, the axes (static)
+    assert got["/world/force"] == states + 1
+    assert got["/status"] >= 1
+    log.unlink()

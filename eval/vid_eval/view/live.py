@@ -83,7 +83,13 @@ def follow(scene: Scene, url: str, channels: Dict[str, str], types_dir: Optional
     lc.subscribe(channels["cam1"], on_image(1))
     start = last = time.monotonic()
     while time.monotonic() - last < idle_s and (max_s is None or time.monotonic() - start < max_s):
-        if lc.handle_timeout(100) > 0:
+        try:
+            got = lc.handle_timeout(100)
+        except OSError:  # LCM's file provider reports the end of a log this way
+            if url.startswith("file://"):
+                break
+            raise ConfigurationError(f"{url}: reading LCM messages failed") from None
+        if got > 0:
             last = time.monotonic()
     if path:
         scene.path(ENTITIES["trajectory"], np.array(path), [30, 144, 255], static=False)

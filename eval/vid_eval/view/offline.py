@@ -27,14 +27,17 @@ def log_run(scene: Scene, run: Path, dataset: Optional[Path], tracks: Optional[P
     at = np.searchsorted(traj.t_ns, world.t_ns).clip(0, len(traj) - 1)  # force rows share state times
     scene.forces(world.t_ns, traj.p[at], world.values, body.sigma)
     counts[ENTITIES["force"]] = len(world)
-    span = (int(traj.t_ns[0]), int(traj.t_ns[-1]))
+    tracks = tracks or (run / "tracks.csv" if (run / "tracks.csv").is_file() else None)
+    tab = load_tracks(tracks) if tracks is not None else None
+    # the run's window: the frames tracked before the filter initialized belong to it too
+    span = (int(min(traj.t_ns[0], tab.t_ns[0] if tab is not None else traj.t_ns[0])),
+            int(max(traj.t_ns[-1], tab.t_ns[-1] if tab is not None else traj.t_ns[-1])))
     mav0 = _mav0(dataset) if dataset else None
     if mav0 is not None:
         counts.update(_log_groundtruth(scene, mav0, traj))
         counts.update(_log_images(scene, mav0, span, image_every))
-    tracks = tracks or (run / "tracks.csv" if (run / "tracks.csv").is_file() else None)
-    if tracks is not None:
-        counts.update(_log_tracks(scene, Path(tracks), span))
+    if tab is not None:
+        counts.update(_log_tracks(scene, tab))
     return counts
 
 
@@ -85,15 +88,12 @@ def _image_rows(csv: Path):
     return rows
 
 
-def _log_tracks(scene: Scene, path: Path, span) -> dict:
-    tab = load_tracks(path)
+def _log_tracks(scene: Scene, tab) -> dict:
     cam, ids, uv = tab.values[:, 0].astype(int), tab.values[:, 1], tab.values[:, 2:4]
     counts = {}
     starts = np.flatnonzero(np.r_[True, np.diff(tab.t_ns) != 0])
     for a, b in zip(starts, np.r_[starts[1:], len(tab.t_ns)]):
         t = int(tab.t_ns[a])
-        if not span[0] <= t <= span[1]:
-            continue
         for c in np.unique(cam[a:b]):
             sel = slice(a, b)
             m = cam[sel] == c

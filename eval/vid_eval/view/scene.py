@@ -70,6 +70,9 @@ class Scene:
         self.rr = rerun()
         self.rec = rec
         self.trails: Dict[int, Dict[int, deque]] = {}
+        rr = self.rr  # styles, static: one row each however often the entity is logged
+        rec.log(ENTITIES["vehicle"], rr.TransformAxes3D(0.3), static=True)
+        rec.log(ENTITIES["force"], rr.Arrows3D.from_fields(colors=[[255, 80, 40]], radii=[0.01]), static=True)
 
     def at(self, t_ns: int) -> None:
         self.rec.set_time(TIMELINE, timestamp=np.datetime64(int(t_ns), "ns"))
@@ -79,7 +82,6 @@ class Scene:
         rr = self.rr
         self.rec.send_columns(ENTITIES["vehicle"], indexes=[self._times(t_ns)],
                               columns=rr.Transform3D.columns(translation=p, quaternion=q_wxyz[:, [1, 2, 3, 0]]))
-        self.rec.log(ENTITIES["vehicle"], rr.TransformAxes3D(0.3), static=True)
         self.path(ENTITIES["trajectory"], p, [30, 144, 255])
 
     def path(self, entity: str, p: np.ndarray, color, static: bool = True) -> None:
@@ -92,7 +94,6 @@ class Scene:
         times = [self._times(t_ns)]
         self.rec.send_columns(ENTITIES["force"], indexes=times,
                               columns=rr.Arrows3D.columns(origins=origins, vectors=FORCE_SCALE * f_world))
-        self.rec.log(ENTITIES["force"], rr.Arrows3D.from_fields(colors=[[255, 80, 40]], radii=[0.01]), static=True)
         for k, axis in enumerate("xyz"):
             self.rec.send_columns(f"{ENTITIES['force_plot']}/{axis}", indexes=times,
                                   columns=rr.Scalars.columns(scalars=f_world[:, k]))
