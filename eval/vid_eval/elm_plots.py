@@ -111,9 +111,14 @@ def hidden_nodes_figure(rows: list[dict]):
     a1.set_yscale("log")
     a2.set_ylabel("|beta|")
     a2.set_yscale("log")
+    from matplotlib.ticker import FuncFormatter
+
+    plain = FuncFormatter(lambda v, _: f"{v:g}")  # 3 rather than 3x10^0 on the log axes
     for a in (a1, a2):
         a.set_xlabel("hidden nodes")
         a.grid(alpha=0.3)
+        a.yaxis.set_major_formatter(plain)
+        a.yaxis.set_minor_formatter(plain)
     handles = [Line2D([], [], color=colors[t], lw=2, label=t) for t in trajs]
     handles += [Line2D([], [], color="0.3", lw=1.2, label=m, **{k: v for k, v in s.items() if k != "zorder"})
                 for m, s in NODE_STYLES.items()]
