@@ -133,3 +133,22 @@ def test_vid_eval_view_follows_vid_live_over_lcm(short_seq, tmp_path):
     assert got["/world/force"] == states + 1
     assert got["/status"] >= 1
     log.unlink()
+
+
+def test_vid_live_rerun_logs_its_out_folder(short_seq, tmp_path):
+    """vid_live --out DIR --rerun OUT.rrd: tracks.csv written, and the recording holds every
+    state, the tracked frames and (with a dataset as --sensors) the images of the window."""
+    from test_live import live
+
+    log = tmp_path / "sensors.log"
+    r = subprocess.run([program("vid_replay"), "--dataset", short_seq, "--lcm-url", "memq://", "--fast", "--end", "2",
+                        "--log", log, "--quiet"], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    out, rrd = tmp_path / "live", tmp_path / "live.rrd"
+    live(short_seq, log, out, "--rerun", rrd)
+    got = rows_per_entity(rrd)
+    assert got["/world/vehicle"] == len((out / "state.csv").read_text().splitlines()) - 1 + 1
+    cam0_frames = {ln.split(",")[0] for ln in _tracks_by_frame(out / "tracks.csv") if ln.split(",")[1] == "0"}
+    assert got["/cam0/image/tracks"] == len(cam0_frames) > 0
+    assert got["/cam0/image"] >= len(cam0_frames)
+    log.unlink()

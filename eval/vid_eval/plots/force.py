@@ -21,15 +21,18 @@ def plot_force(res: ForceResult, out_dir: os.PathLike, name: str = "force.png",
 
 def _robust_ylim(ax, keep: np.ndarray, lo: np.ndarray, hi: np.ndarray,
                  floor: Optional[float] = None) -> None:
-    """Y range: all of ``keep`` (the truth), the 0.5-99.5 % range of ``lo`` / ``hi`` (band or
-    estimate), 8 % margin. A brief spike (a touchdown impact) would otherwise squeeze the
-    whole flight into a line; what is cut is named in the panel."""
+    """Y range: all of ``keep`` (the truth) and of ``lo`` / ``hi`` (band or estimate), 8 %
+    margin; but when that is over twice the span of their 0.5-99.5 % range, only the latter: a
+    brief spike (a touchdown impact) would squeeze the whole flight into a line. What is cut is
+    named in the panel."""
     a = min(float(np.min(keep)), float(np.percentile(lo, 0.5)))
     b = max(float(np.max(keep)), float(np.percentile(hi, 99.5)))
+    cut_lo, cut_hi = float(np.min(lo)), float(np.max(hi))
+    if cut_hi - cut_lo <= 2.0 * (b - a):  # no spike, just tails: show everything
+        a, b = min(a, cut_lo), max(b, cut_hi)
     pad = max(0.08 * (b - a), 0.05)
     a, b = (a - pad if floor is None else floor), b + pad
     ax.set_ylim(a, b)
-    cut_lo, cut_hi = float(np.min(lo)), float(np.max(hi))
     if cut_lo < a or cut_hi > b:
         ax.text(0.005, 0.95, f"range {cut_lo:.2f} … {cut_hi:.2f} m/s², clipped", transform=ax.transAxes,
                 fontsize=7, color="0.3", va="top", bbox={"fc": "white", "ec": "none", "alpha": 0.8})
