@@ -58,7 +58,7 @@ if [[ ! -f "$STAMP" || "$(cat "$STAMP")" != "$REQ_HASH" ]]; then
   "$VENV/bin/pip" install -q --upgrade pip
   # pybind11 for the Python bindings (python/): from pip, as Debian 12's 2.10 predates numpy 2's
   # C API (its arrays come out with zero strides under numpy 2).
-  "$VENV/bin/pip" install -q -e "$ROOT/eval[test,batch,fuzz]" "pybind11>=2.12,<3"
+  "$VENV/bin/pip" install -q -e "$ROOT/eval[test,batch,fuzz,view]" "pybind11>=2.12,<3"
   echo "$REQ_HASH" > "$STAMP"
 else
   echo "[setup] python venv up to date"

@@ -5,6 +5,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <variant>
 
+#include "app/image_depth.h"
 #include "app/progress.h"
 #include "frontend/image_decode.h"
 #include "frontend/klt_tracker.h"
@@ -12,6 +13,7 @@
 #include "io/dataset_reader.h"
 #include "vid_system/frame_faults.h"
 #include "vid_system/frontend_stage.h"
+#include "vid_system/outputs.h"
 
 namespace vid::app {
 namespace {
@@ -43,11 +45,13 @@ TrackSummary run_tracking(const TrackOptions& o) {
   system::FrontendStage frontend(o.params, cams, reader.has_stream("cam1"));
   const bool stereo = frontend.cameras() == 2;
   const KltTracker& tracker = frontend.tracker();
+  // 16-bit images: one scale per camera for the whole run, from samples of the stream.
+  const CameraDepths depths = camera_bit_depths(reader.mav0(), o.params.image_bit_depth);
   TrackDrawer drawer;
   if (o.draw_dir) std::filesystem::create_directories(*o.draw_dir);
 
   CsvFile csv(o.out_csv);
-  std::fprintf(csv.f, "#timestamp [ns],cam_id,feature_id,u [px],v [px]\n");
+  std::fprintf(csv.f, "%s\n", system::tracks_csv_header().c_str());
   ProgressBar bar("vid_track", 1.0);
   TrackSummary s;
   system::FrameFaults faults;
@@ -65,17 +69,14 @@ TrackSummary run_tracking(const TrackOptions& o) {
     for (const auto& ref : frame->images) {
       const int k = ref.cam_id == cams[0].cam_id ? 0 : stereo && ref.cam_id == cams[1].cam_id ? 1 : -1;
       if (k < 0) continue;
-      cv::Mat g = decode_gray8(ref.path);
+      cv::Mat g = decode_gray8(ref.path, nullptr, depths.bits(ref.cam_id));
       if (!system::check_frame_image(g, ref.path, cams[k].width, cams[k].height, faults)) usable = false;
       (k == 0 ? left : right) = g;
     }
     if (!usable) continue;       // skipped: warned and counted (or thrown under strict)
     if (left.empty()) continue;  // a right-only timestamp: nothing to track
     const FeatureFrame ff = frontend.track(frame->t_ns, left, right);
-    for (const auto& ob : ff.observations) {
-      std::fprintf(csv.f, "%lld,%d,%llu,%.4f,%.4f\n", static_cast<long long>(ff.t_ns), ob.cam_id,
-                   static_cast<unsigned long long>(ob.feature_id), ob.uv.x(), ob.uv.y());
-    }
+    for (const auto& ob : ff.observations) std::fprintf(csv.f, "%s\n", system::tracks_csv_row(ff.t_ns, ob).c_str());
     const TrackerStats& st = tracker.stats();
     if (o.draw_dir) {
       drawer.update(tracker.tracks());

@@ -3,7 +3,8 @@
 Usage: python elm_plots.py OUT_DIR
 Reads OUT_DIR/series/<trajectory>__<profile>.csv (written by `vid_massid elm-study`:
 t, mass_true, then one column per method) and writes
-  OUT_DIR/figures/elm_<trajectory>.png   estimate vs truth, one panel per mass profile
+  OUT_DIR/figures/elm_<trajectory>.png   estimate vs truth: a row per mass profile, a column
+                                         per method (equal methods would hide each other)
   OUT_DIR/figures/elm_mass_profiles.png  the true mass profiles of the plotted runs
   OUT_DIR/figures/elm_hidden_nodes.png   table 1 (RMSE and |beta| vs hidden nodes), if present
 """
@@ -20,8 +21,14 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from vid_eval.plots.methods import CaseSeries, methods_grid  # noqa: E402  (run as a script by vid_massid)
+
 PROFILE_ORDER = ["constant", "linear_decrease", "step_drop", "step_pickup", "up_down"]
-STYLES = {"elm": ("tab:orange", ":"), "relm": ("tab:blue", "-"), "oselm": ("tab:green", "--")}
+METHOD_ORDER = ["relm", "elm", "oselm"]  # the first is the reference the others are compared to
+# hidden-nodes plot: ELM and RELM coincide; RELM solid with dots under ELM dashed with hollow
+# squares, so both stay visible where they are equal (issue #25)
+NODE_STYLES = {"relm": dict(ls="-", marker="o", ms=3, zorder=2),
+               "elm": dict(ls="--", marker="s", ms=7, mfc="none", zorder=3)}
 
 
 def read_series(path: Path) -> tuple[list[str], np.ndarray]:
@@ -29,6 +36,22 @@ def read_series(path: Path) -> tuple[list[str], np.ndarray]:
         header = next(csv.reader(f))
     data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
     return header, data
+
+
+def _ordered(names, order):
+    return [n for n in order if n in names] + sorted(n for n in names if n not in order)
+
+
+def elm_figure(traj: str, files: dict[str, Path]):
+    """One row per mass profile, one column per method (each with the truth), see
+    vid_eval.plots.methods."""
+    cases, methods = [], None
+    for profile in _ordered(files, PROFILE_ORDER):
+        header, d = read_series(files[profile])
+        methods = methods or _ordered(header[2:], METHOD_ORDER)
+        cases.append(CaseSeries(profile, d[:, 0], d[:, 1],
+                                {name: d[:, j] for j, name in enumerate(header) if j >= 2}))
+    return methods_grid(cases, methods, f"{traj}: data-driven mass estimates on held-out runs")
 
 
 def plot_trajectories(out: Path) -> list[Path]:
@@ -42,25 +65,12 @@ def plot_trajectories(out: Path) -> list[Path]:
     profiles_fig, pax = plt.subplots(1, 1, figsize=(7, 4))
     plotted_profiles = set()
     for traj, files in groups.items():
-        profiles = [p for p in PROFILE_ORDER if p in files] + sorted(set(files) - set(PROFILE_ORDER))
-        fig, axes = plt.subplots(len(profiles), 1, figsize=(9, 2.2 * len(profiles)), sharex=True,
-                                 squeeze=False)
-        for ax, profile in zip(axes[:, 0], profiles):
-            header, d = read_series(files[profile])
-            t, truth = d[:, 0], d[:, 1]
-            ax.plot(t, truth, color="k", lw=2.0, label="truth")
-            for j, name in enumerate(header[2:], start=2):
-                color, ls = STYLES.get(name, (None, "-"))
-                rmspe = 100.0 * np.sqrt(np.mean(((d[:, j] - truth) / truth) ** 2))
-                ax.plot(t, d[:, j], color=color, ls=ls, lw=1.0, label=f"{name} ({rmspe:.1f} %)")
-            ax.set_ylabel("mass [kg]")
-            ax.set_title(f"{traj} / {profile}", fontsize=9)
-            ax.legend(fontsize=7, loc="upper right", ncol=4)
-            ax.grid(alpha=0.3)
+        fig = elm_figure(traj, files)
+        for profile in _ordered(files, PROFILE_ORDER):
             if profile not in plotted_profiles:
-                pax.plot(t, truth / truth[0], label=profile)
+                _, d = read_series(files[profile])
+                pax.plot(d[:, 0], d[:, 1] / d[0, 1], label=profile)
                 plotted_profiles.add(profile)
-        axes[-1, 0].set_xlabel("t [s]")
         fig.tight_layout()
         path = fig_dir / f"elm_{traj}.png"
         fig.savefig(path, dpi=110)
@@ -80,31 +90,50 @@ def plot_trajectories(out: Path) -> list[Path]:
     return written
 
 
-def plot_hidden_nodes(out: Path) -> list[Path]:
-    table = out / "table1_hidden_nodes.csv"
-    if not table.exists():
-        return []
-    rows = list(csv.DictReader(table.open()))
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
-    for traj in dict.fromkeys(r["trajectory"] for r in rows):
-        for method in ("elm", "relm"):
+def hidden_nodes_figure(rows: list[dict]):
+    """Held-out RMSE and |beta| against the hidden-node count: colour = trajectory, line and
+    marker = method (legend in two parts)."""
+    from matplotlib.lines import Line2D
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.4))
+    trajs = list(dict.fromkeys(r["trajectory"] for r in rows))
+    colors = {t: f"C{i}" for i, t in enumerate(trajs)}
+    for traj in trajs:
+        for method, style in NODE_STYLES.items():
             sel = [r for r in rows if r["trajectory"] == traj and r["method"] == method]
             if not sel:
                 continue
             L = [int(r["hidden"]) for r in sel]
-            ls = ":" if method == "elm" else "-"
-            a1.plot(L, [float(r["test_rmse_pct"]) for r in sel], ls=ls, marker="o", ms=3,
-                    label=f"{traj} {method}")
-            a2.semilogy(L, [float(r["weight_norm"]) for r in sel], ls=ls, marker="o", ms=3)
-    a1.set_xlabel("hidden nodes")
+            kw = dict(style, color=colors[traj], lw=1.2, label=f"{traj} {method}")
+            a1.plot(L, [float(r["test_rmse_pct"]) for r in sel], **kw)
+            a2.plot(L, [float(r["weight_norm"]) for r in sel], **kw)
     a1.set_ylabel("held-out RMSE [%]")
     a1.set_yscale("log")
-    a2.set_xlabel("hidden nodes")
     a2.set_ylabel("|beta|")
-    a1.legend(fontsize=6, ncol=2)
+    a2.set_yscale("log")
+    from matplotlib.ticker import FuncFormatter
+
+    plain = FuncFormatter(lambda v, _: f"{v:g}")  # 3 rather than 3x10^0 on the log axes
     for a in (a1, a2):
+        a.set_xlabel("hidden nodes")
         a.grid(alpha=0.3)
-    fig.tight_layout()
+        a.yaxis.set_major_formatter(plain)
+        a.yaxis.set_minor_formatter(plain)
+    handles = [Line2D([], [], color=colors[t], lw=2, label=t) for t in trajs]
+    handles += [Line2D([], [], color="0.3", lw=1.2, label=m, **{k: v for k, v in s.items() if k != "zorder"})
+                for m, s in NODE_STYLES.items()]
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=8)
+    fig.suptitle("ELM and RELM against the number of hidden nodes (equal values overlap: dots inside squares)",
+                 fontsize=10)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    return fig
+
+
+def plot_hidden_nodes(out: Path) -> list[Path]:
+    table = out / "table1_hidden_nodes.csv"
+    if not table.exists():
+        return []
+    fig = hidden_nodes_figure(list(csv.DictReader(table.open())))
     path = out / "figures" / "elm_hidden_nodes.png"
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)

@@ -74,6 +74,17 @@ MASS_SIGMA_COLUMN: Column = ("sigma", "kg")
 PHASE0_COLUMNS: List[Column] = [("timestamp", "ns"), ("phase", "")]
 PHASE_ON_GROUND, PHASE_AIRBORNE = 0, 1
 
+#: Tracked features of the KLT frontend (``vid_track --out``, ``vid_run --tracks``): one row
+#: per feature and camera of a frame, frames in time order (rows of a frame share its time).
+TRACKS_COLUMNS: List[Column] = [("timestamp", "ns"), ("cam_id", ""), ("feature_id", ""), ("u", "px"), ("v", "px")]
+
+#: NEES Monte-Carlo curves (``vio_core_nees*_test`` -> ``<build>/vio_core_nees/nees_*.csv``):
+#: this header first, then the comment ``# runs=N band_lo=L band_hi=H`` (the two-sided 95 %
+#: band of the mean of N chi2(3) values), then one row per filter time. nees_F is 0 when the
+#: state has no F_ext (imu mode).
+NEES_COLUMNS: List[Column] = [("t", "s"), ("nees_theta", ""), ("nees_p", ""), ("nees_F", "")]
+NEES_DOF = 3
+
 #: EuRoC ``state_groundtruth_estimate0/data.csv``: 17 columns; only the first 8 are used.
 EUROC_GT_MIN_COLUMNS = 8
 

@@ -19,10 +19,12 @@ from pathlib import Path
 from typing import Optional
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from .alignment import Alignment
 from .ate import compute_ate
 from .errors import ConfigurationError, PathLike
+from .geometry import rot_from_wxyz, wxyz_from_rot
 from .loaders import load_trajectory
 from .pairing import PairingOptions
 from .series import Trajectory, VectorSeries
@@ -116,3 +118,12 @@ def rotate_world(series: VectorSeries, gauge: WorldGauge) -> VectorSeries:
     return VectorSeries(series.t_ns, series.values @ R.T, "world", series.unit, sigma,
                         series.source)
 
+
+
+def rotate_orientations(traj: Trajectory, gauge: WorldGauge) -> Trajectory:
+    """The estimate's orientations in the ground truth's world, ``q_GI = R q_WI`` (positions
+    kept: only frame changes of vectors and their sigma use this). A per-axis sigma must be
+    rotated in one step with these: rotating twice, taking the diagonal each time, inflates it."""
+    R = gauge.alignment.R
+    q = wxyz_from_rot(Rotation.from_matrix(R) * rot_from_wxyz(traj.q))
+    return Trajectory(traj.t_ns, traj.p, q, traj.source, traj.time_unit)

@@ -14,7 +14,7 @@ import yaml
 
 from . import formats
 from .errors import InputFormatError, PathLike
-from .series import ScalarSeries, StateSeries, Trajectory, VectorSeries
+from .series import NeesCurves, ScalarSeries, StateSeries, Trajectory, VectorSeries
 from .table_reader import Table, not_utf8, read_table
 
 TRAJ_FORMATS = ("tum", "euroc", "state")
@@ -198,3 +198,37 @@ def find_mass_source(force_gt_path: PathLike) -> Optional[Path]:
         if cand.is_file():
             return cand
     return None
+
+
+def load_nees(path: PathLike) -> NeesCurves:
+    """A NEES Monte-Carlo CSV (:data:`formats.NEES_COLUMNS`): the run-averaged NEES of
+    orientation, position and F_ext over time, with the run count and the 95 % band."""
+    names = [n for n, _ in formats.NEES_COLUMNS]
+    tab = read_table(path, {len(names)}, time_in_seconds=True, expected_names=names, what="NEES CSV")
+    meta = {}
+    with open(tab.path, encoding="utf-8") as fh:
+        for lineno, raw in enumerate(fh, start=1):
+            if raw.startswith("#") and "runs=" in raw:
+                try:
+                    meta = {k: float(v) for k, v in (kv.split("=", 1) for kv in raw[1:].split())}
+                except ValueError:
+                    raise InputFormatError(tab.path, "NEES CSV: expected '# runs=N band_lo=L "
+                                                     "band_hi=H'", lineno) from None
+                break
+    missing = [k for k in ("runs", "band_lo", "band_hi") if k not in meta]
+    if missing:
+        raise InputFormatError(tab.path, f"NEES CSV: no {', '.join(missing)} in a "
+                                         "'# runs=N band_lo=L band_hi=H' line")
+    if not (meta["runs"] >= 1 and 0 <= meta["band_lo"] < meta["band_hi"]):
+        raise InputFormatError(tab.path, f"NEES CSV: runs {meta['runs']:g} < 1 or band "
+                                         f"[{meta['band_lo']:g}, {meta['band_hi']:g}] empty")
+    v = tab.values
+    return NeesCurves(tab.t_ns, v[:, 0].copy(), v[:, 1].copy(), v[:, 2].copy(), int(meta["runs"]),
+                      meta["band_lo"], meta["band_hi"], tab.path)
+
+
+def load_tracks(path: PathLike) -> Table:
+    """Tracked features (:data:`formats.TRACKS_COLUMNS`); ``values`` columns: cam_id,
+    feature_id, u, v."""
+    names = [n for n, _ in formats.TRACKS_COLUMNS]
+    return read_table(path, {len(names)}, expected_names=names, what="tracks CSV", repeated_times=True)

@@ -3,8 +3,9 @@
 Reads OUT/runs.csv and OUT/estimates/<trajectory>/<profile>/run_NNN.csv written by
 `vid_massid run` and writes, into --out:
 
-* ``<trajectory>.png``: one panel per mass profile, true mass and every method's estimate of
-  the lowest-numbered evaluated run (like the seed's figures 7-11);
+* ``<trajectory>.png``: a row per mass profile and a column per method, the true mass under
+  each method's estimate of the lowest-numbered evaluated run (the seed's figures 7-11 overlay
+  them; overlaid, the converged estimates hid each other);
 * ``inputs.png``: the commanded inputs per trajectory (thrust-to-weight ratio T / (m g) and
   body-rate magnitude |w|), to explain why a trajectory that drives the controller near its
   limits (lemniscate) degrades the observers.
@@ -22,10 +23,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from vid_eval.usage import OneLineParser  # noqa: E402  (run as a script by vid_massid)
+from vid_eval.plots.methods import CaseSeries, methods_grid  # noqa: E402  (run as a script by vid_massid)
+from vid_eval.usage import OneLineParser  # noqa: E402
 
 PROFILE_ORDER = ["constant", "linear_decrease", "step_drop", "step_pickup", "up_down"]
 TRAJ_ORDER = ["random", "loop", "lemniscate", "zigzag", "square"]
+METHOD_ORDER = ["ekf", "ukf", "msckf", "swls"]  # the first is the reference the others are compared to
+NOT_METHODS = ("t", "mass_true", "thrust_cmd", "wx", "wy", "wz")
 GRAVITY = 9.81
 
 
@@ -66,26 +70,26 @@ def find_runs(results: pathlib.Path) -> dict[tuple[str, str], pathlib.Path]:
 
 
 def plot_trajectory(traj: str, runs: dict[tuple[str, str], pathlib.Path], out: pathlib.Path) -> pathlib.Path:
-    profiles = _ordered({p for (t, p) in runs if t == traj}, PROFILE_ORDER)
-    fig, axes = plt.subplots(len(profiles), 1, figsize=(9, 2.4 * len(profiles)), sharex=True, squeeze=False)
-    for ax, prof in zip(axes[:, 0], profiles):
-        d = read_estimates(runs[(traj, prof)])
-        methods = [k for k in d if k not in ("t", "mass_true", "thrust_cmd", "wx", "wy", "wz")]
-        ax.plot(d["t"], d["mass_true"], "k-", lw=2.0, label="truth")
-        for m in methods:
-            ax.plot(d["t"], d[m], lw=1.0, label=m)
-        ax.set_ylabel("mass [kg]")
-        ax.set_title(f"{traj} / {prof} ({runs[(traj, prof)].stem})", fontsize=9)
-        lo, hi = d["mass_true"].min(), d["mass_true"].max()
-        ax.set_ylim(0.7 * lo, 1.35 * hi)
-        ax.grid(alpha=0.3)
-    axes[0, 0].legend(loc="upper right", ncol=4, fontsize=8)
-    axes[-1, 0].set_xlabel("t [s]")
+    fig = trajectory_figure(traj, runs)
     fig.tight_layout()
     path = out / f"{traj}.png"
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
+
+
+def trajectory_figure(traj: str, runs: dict[tuple[str, str], pathlib.Path]):
+    """A row per mass profile, a column per method, each with the truth (vid_eval.plots.methods:
+    overlaid, the filters' converged estimates hid each other)."""
+    cases = []
+    for prof in _ordered({p for (t, p) in runs if t == traj}, PROFILE_ORDER):
+        d = read_estimates(runs[(traj, prof)])
+        ests = {k: v for k, v in d.items() if k not in NOT_METHODS}
+        cases.append(CaseSeries(f"{prof} ({runs[(traj, prof)].stem})", d["t"], d["mass_true"], ests))
+    methods = _ordered(set(cases[0].estimates), METHOD_ORDER)
+    # the first 0.1-0.3 s of start-up transients would squeeze the rest into a line
+    return methods_grid(cases, methods, f"{traj}: mass estimates of the filters",
+                        ylim=lambda c: (0.7 * c.truth.min(), 1.35 * c.truth.max()))
 
 
 def plot_inputs(runs: dict[tuple[str, str], pathlib.Path], out: pathlib.Path) -> pathlib.Path:

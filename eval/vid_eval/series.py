@@ -108,3 +108,31 @@ class StateSeries:
     def force_body(self) -> VectorSeries:
         """F_ext in the body frame [m/s^2] with its 1-sigma."""
         return VectorSeries(self.t_ns, self.f_body, "body", "m/s^2", self.sigma.get("f"), self.source)
+
+
+@dataclass
+class NeesCurves:
+    """Run-averaged NEES (3 dof each) of orientation, position and F_ext at times ``t_ns``
+    (from the filter's start), over ``runs`` Monte-Carlo runs, and the 95 % band of that
+    average for a consistent filter: ``[band_lo, band_hi]``."""
+
+    t_ns: np.ndarray
+    theta: np.ndarray
+    p: np.ndarray
+    F: np.ndarray
+    runs: int
+    band_lo: float
+    band_hi: float
+    source: str = ""
+
+    def curves(self) -> dict:
+        """name -> values of the curves that carry data (F_ext is all zero in imu mode)."""
+        named = {"orientation θ": self.theta, "position p": self.p, "force F_ext": self.F}
+        return {k: v for k, v in named.items() if np.any(v != 0)}
+
+    def fraction_inside(self, values: np.ndarray, skip_s: float) -> float:
+        """Fraction of the times t >= ``skip_s`` at which ``values`` is inside the band (the
+        rule of tests/vio_core/test_nees_sim.cpp)."""
+        keep = self.t_ns >= int(round(skip_s * 1e9))
+        v = values[keep]
+        return float(np.mean((v >= self.band_lo) & (v <= self.band_hi))) if v.size else float("nan")

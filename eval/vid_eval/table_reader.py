@@ -58,6 +58,7 @@ def read_table(
     time_in_seconds: bool = False,
     expected_names: Optional[Sequence[str]] = None,
     what: str = "table",
+    repeated_times: bool = False,
 ) -> Table:
     """Read a numeric table whose first column is a timestamp.
 
@@ -68,6 +69,8 @@ def read_table(
         time_in_seconds: the first column is seconds (TUM) instead of nanoseconds.
         expected_names: column names the header must carry (checked only if a header exists).
         what: name of the format, used in error messages.
+        repeated_times: rows may share a timestamp (one row per feature of a frame); time
+            must still never decrease.
 
     Raises:
         InputFormatError: with file and line for every malformed input.
@@ -82,7 +85,8 @@ def read_table(
         raise InputFormatError(spath, f"cannot open: {exc.strerror}") from None
     with handle:
         try:
-            return _read_rows(handle, spath, allowed, delimiter, time_in_seconds, expected_names, what)
+            return _read_rows(handle, spath, allowed, delimiter, time_in_seconds, expected_names, what,
+                              repeated_times)
         except UnicodeDecodeError:
             raise not_utf8(spath, what) from None
 
@@ -100,7 +104,7 @@ def not_utf8(path: str, what: str) -> InputFormatError:
 
 
 def _read_rows(handle, spath: str, allowed: set, delimiter: Optional[str], time_in_seconds: bool,
-               expected_names: Optional[Sequence[str]], what: str) -> Table:
+               expected_names: Optional[Sequence[str]], what: str, repeated_times: bool = False) -> Table:
     header: Optional[str] = None
     header_lineno = 1
     times: List[int] = []
@@ -137,7 +141,7 @@ def _read_rows(handle, spath: str, allowed: set, delimiter: Optional[str], time_
             col = 1 + int(np.flatnonzero(~np.isfinite(vals))[0])
             raise InputFormatError(spath, f"{what}: {column(col)}: non-finite value "
                                           f"'{tokens[col]}'", lineno)
-        if times and t <= times[-1]:
+        if times and (t < times[-1] or (t == times[-1] and not repeated_times)):
             kind = "repeated" if t == times[-1] else "decreasing"
             raise InputFormatError(
                 spath, f"{what}: timestamps not strictly increasing ({kind} timestamp)", lineno

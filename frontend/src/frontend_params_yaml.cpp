@@ -37,6 +37,7 @@ const Field<int> kInts[] = {
     VID_FIELD(ransac_max_iterations),
     VID_FIELD(stereo_lk_levels),
     VID_FIELD(stereo_track_lk_levels),
+    VID_FIELD(image_bit_depth),
 };
 const Field<double> kDoubles[] = {
     VID_FIELD(min_distance_px),
@@ -121,6 +122,9 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
   }
   if (p.stereo_track_lk_levels < 0 || p.stereo_track_lk_levels > 8) {
     m.fail("stereo_track_lk_levels", "must be in [0, 8]");
+  }
+  if (p.image_bit_depth != 0 && (p.image_bit_depth < 9 || p.image_bit_depth > 16)) {
+    m.fail("image_bit_depth", "must be 0 (auto) or in [9, 16] (significant bits of 16-bit images)");
   }
   if (p.detect_min_missing < 1) m.fail("detect_min_missing", "must be >= 1");
   if (p.detect_cell_retry_frames < 0) m.fail("detect_cell_retry_frames", "must be >= 0");

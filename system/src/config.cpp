@@ -108,6 +108,7 @@ SystemParams make_system_params(const SystemOptions& opt, const io::DatasetCalib
   p.config = resolve_config(opt.config, calibration);
   p.features = opt.features;
   p.out_dir = opt.out_dir;
+  p.write_tracks = opt.write_tracks;
   p.truth_vehicle = calibration.vehicle;
   SystemConfig& cfg = p.config;
   const bool thrust_data = opt.has_rotor || opt.has_thrust;

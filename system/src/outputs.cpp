@@ -55,6 +55,12 @@ std::string timing_csv_header() {
          "marginalization [ms],total [ms]";
 }
 
+std::string tracks_csv_header() { return "#timestamp [ns],cam_id,feature_id,u [px],v [px]"; }
+
+std::string tracks_csv_row(TimeNs t_ns, const FeatureObservation& ob) {
+  return fmt::format("{},{},{},{:.4f},{:.4f}", t_ns, ob.cam_id, ob.feature_id, ob.uv.x(), ob.uv.y());
+}
+
 RunOutputs::RunOutputs(const std::filesystem::path& out_dir, bool write_force)
     : write_force_(write_force),
       tum_(out_dir / "trajectory_tum.txt"),

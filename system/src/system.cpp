@@ -61,6 +61,11 @@ System::System(SystemParams params) : p_(std::move(params)), cpu_start_s_(proces
     for (const auto& cam : p_.config.cameras) models_.push_back(CameraModel::create(cam));
   build_estimator();
   if (p_.out_dir) outputs_.emplace(*p_.out_dir, dynamics());
+  image_bits_.fill(p_.config.frontend.image_bit_depth);
+  if (p_.write_tracks && p_.out_dir && frontend_) {  // once: a re-initialization keeps the file
+    tracks_.emplace(*p_.out_dir / "tracks.csv");
+    tracks_->line(tracks_csv_header());
+  }
 }
 
 System::~System() = default;
@@ -139,7 +144,11 @@ void System::push(const ImageFrame& frame) {
   const double cpu_decode = thread_cpu_ms();
   std::vector<std::pair<int, cv::Mat>> images;
   for (const auto& ref : frame.images)
-    if (ref.cam_id <= 1) images.emplace_back(ref.cam_id, decode_gray8(ref.path));
+    if (ref.cam_id <= 1) {
+      int& bits = image_bits_[ref.cam_id == 1 ? 1 : 0];
+      if (bits == 0) bits = detect_bit_depth({ref.path}).bits;  // the first image fixes the stream's scale
+      images.emplace_back(ref.cam_id, decode_gray8(ref.path, nullptr, bits));
+    }
   push_decoded(frame, images, ms_since(t_decode), thread_cpu_ms() - cpu_decode);
 }
 
@@ -195,6 +204,8 @@ void System::track(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right) {
   FeatureFrame ff = frontend_->track(t_ns, left, right);
   tracking_ms_[t_ns] = ms_since(t_track);
   tracking_cpu_ms_.add(thread_cpu_ms() - cpu_track);
+  if (tracks_)
+    for (const auto& ob : ff.observations) tracks_->line(tracks_csv_row(ff.t_ns, ob));
   to_pipeline(std::move(ff));
 }
 
@@ -266,6 +277,7 @@ void System::frame_out(const FrameTimings& ft) {
 void System::close_outputs() {
   faults_.report_rest();
   if (outputs_) outputs_->close();
+  if (tracks_) tracks_->close();
 }
 
 FilterStatus System::status() const { return pipeline_->status(); }

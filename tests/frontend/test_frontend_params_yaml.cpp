@@ -37,12 +37,13 @@ TEST(FrontendParamsYaml, PrintParseRoundTripAndEquality) {
     changed.precision(17);
     if (key == "equalization") changed << (value == "clahe" ? "none" : "clahe");
     else if (key == "ransac") changed << (value == "none" ? "fundamental" : "none");
+    else if (key == "image_bit_depth") changed << 12;  // 0 (auto) or 9..16
     else if (value == "true" || value == "false") changed << (value == "true" ? "false" : "true");
     else if (value.find_first_of(".e") == std::string::npos) changed << std::stoi(value) + 2;  // keeps odd sizes odd
     else changed << (std::stod(value) == 0.0 ? 0.001 : std::stod(value) * 0.99);
     EXPECT_FALSE(parse(key + ": " + changed.str() + "\n") == FrontendParams{}) << key;
   }
-  EXPECT_EQ(keys, 38);  // every FrontendParams field
+  EXPECT_EQ(keys, 39);  // every FrontendParams field
 }
 
 TEST(FrontendParamsYaml, ErrorsNameFileLineAndKey) {
@@ -57,6 +58,8 @@ TEST(FrontendParamsYaml, ErrorsNameFileLineAndKey) {
   EXPECT_EQ(error_of("num_featurs: 3\n"), "f.yaml:1: unknown key 'num_featurs'");
   EXPECT_EQ(error_of("ransac: always\n"), "f.yaml:1: key 'ransac': expected none|fundamental|two_point, got 'always'");
   EXPECT_EQ(error_of("x: 1\nlk_window: 4\n"), "f.yaml:2: key 'lk_window': must be odd");
+  EXPECT_EQ(error_of("image_bit_depth: 8\n"),
+            "f.yaml:1: key 'image_bit_depth': must be 0 (auto) or in [9, 16] (significant bits of 16-bit images)");
 }
 
 }  // namespace

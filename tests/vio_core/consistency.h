@@ -2,8 +2,12 @@
 // Helpers shared by the consistency (NEES) tests on synthetic and simulator data.
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
 #include <random>
 #include <utility>
+#include <vector>
 
 #include "geometry/so3.h"
 #include "vio_core/state.h"
@@ -20,6 +24,21 @@ inline std::pair<double, double> nees_band(int runs) {
     return k * c * c * c;
   };
   return {q(-1.959963984540054) / runs, q(1.959963984540054) / runs};
+}
+
+/// Write run-averaged NEES curves as the CSV that `vid-eval nees` reads and plots
+/// (eval/vid_eval/formats.py NEES_COLUMNS: the header first, then the run count and band).
+inline void write_nees_csv(const std::filesystem::path& path, int runs, const std::vector<double>& t,
+                           const std::vector<double>& theta, const std::vector<double>& p,
+                           const std::vector<double>& F, std::size_t stride = 1) {
+  const auto [lo, hi] = nees_band(runs);
+  std::filesystem::create_directories(path.parent_path());
+  std::ofstream csv(path);
+  csv << "#t [s],nees_theta [],nees_p [],nees_F []\n";
+  csv << "# runs=" << runs << " band_lo=" << lo << " band_hi=" << hi << "\n";
+  csv << std::setprecision(10);  // times stay distinct (the reader wants them increasing)
+  for (std::size_t i = 0; i < t.size(); i += stride)
+    csv << t[i] << "," << theta[i] << "," << p[i] << "," << F[i] << "\n";
 }
 
 /// Perturb x by one draw from N(0, P) (error-state layout of the IMU block, any of 15 / 18 /

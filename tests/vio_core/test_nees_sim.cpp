@@ -5,7 +5,7 @@
 // both modes. The initial estimate is drawn from the initial covariance around the truth.
 // The same in dynamics mode on rope_snap (a tether that snaps taut every lap, issue 17): the
 // force-jump handling must keep the covariance honest through the snaps.
-// Writes CSV (plot with tests/vio_core/plot_nees.py).
+// Writes CSV (plot with `vid-eval nees`).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -57,14 +57,8 @@ void run_mode(PropagationMode mode, const std::string& preset = "vid17_like") {
   avg.p.resize(avg.t.size());
   avg.F.resize(avg.t.size());
   const auto [lo, hi] = nees_band(kRuns);
-  const std::filesystem::path dir = std::filesystem::path(VID_BINARY_DIR) / "vio_core_nees";
-  std::filesystem::create_directories(dir);
-  std::ofstream csv(dir / ("nees_" + preset + "_" + to_string(mode) + ".csv"));
-  csv << "# runs=" << kRuns << " band_lo=" << lo << " band_hi=" << hi << "\n";
-  csv << "t,nees_theta,nees_p,nees_F\n";
-  for (std::size_t i = 0; i < avg.t.size(); ++i) {
-    csv << avg.t[i] << "," << avg.theta[i] << "," << avg.p[i] << "," << avg.F[i] << "\n";
-  }
+  write_nees_csv(std::filesystem::path(VID_BINARY_DIR) / "vio_core_nees" / ("nees_" + preset + "_" + to_string(mode) + ".csv"),
+                 kRuns, avg.t, avg.theta, avg.p, avg.F);
   const double th = fraction_inside(avg.t, avg.theta, lo, hi);
   const double p = fraction_inside(avg.t, avg.p, lo, hi);
   std::printf("%s %s: %d runs x %.0f s, band [%.2f, %.2f]; inside: theta %.3f, p %.3f", preset.c_str(),

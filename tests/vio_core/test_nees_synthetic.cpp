@@ -1,6 +1,6 @@
 // Consistency: Monte-Carlo averaged NEES of orientation, position and F_ext (3 dof each) on
 // analytic synthetic flights, both modes. Initial estimates are drawn from the initial
-// covariance. Writes CSV (plot with tests/vio_core/plot_nees.py).
+// covariance. Writes CSV (plot with `vid-eval nees`).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -74,14 +74,8 @@ void run_mode(PropagationMode mode) {
   const double duration = 15.0;
   const NeesCurves c = monte_carlo(mode, runs, duration);
   const auto [lo, hi] = nees_band(runs);
-  const std::filesystem::path dir = std::filesystem::path(VID_BINARY_DIR) / "vio_core_nees";
-  std::filesystem::create_directories(dir);
-  std::ofstream csv(dir / ("nees_synthetic_" + to_string(mode) + ".csv"));
-  csv << "# runs=" << runs << " band_lo=" << lo << " band_hi=" << hi << "\n";
-  csv << "t,nees_theta,nees_p,nees_F\n";
-  for (std::size_t i = 0; i < c.t.size(); i += 4) {
-    csv << c.t[i] << "," << c.theta[i] << "," << c.p[i] << "," << c.F[i] << "\n";
-  }
+  write_nees_csv(std::filesystem::path(VID_BINARY_DIR) / "vio_core_nees" / ("nees_synthetic_" + to_string(mode) + ".csv"),
+                 runs, c.t, c.theta, c.p, c.F, 4);
   const Fractions th = fractions(c.t, c.theta, lo, hi);
   const Fractions p = fractions(c.t, c.p, lo, hi);
   std::printf("%s: %d runs, band [%.2f, %.2f]; inside band: theta %.3f, p %.3f", to_string(mode).c_str(),

@@ -85,7 +85,8 @@ void Prefetcher::decode(Prefetched& p) {
   const auto t_wall = Clock::now();
   const double t_cpu = thread_cpu_ms();
   for (const auto& ref : f->images)
-    if (ref.cam_id <= 1) p.images.emplace_back(ref.cam_id, decode_gray8(ref.path));
+    if (ref.cam_id <= 1)
+      p.images.emplace_back(ref.cam_id, decode_gray8(ref.path, nullptr, opt_.image_bits[ref.cam_id == 1 ? 1 : 0]));
   p.decode_ms = ms_since(t_wall);
   p.decode_cpu_ms = thread_cpu_ms() - t_cpu;
 }

@@ -9,6 +9,7 @@
 
 #include "app/cli.h"
 #include "app/run_main.h"
+#include "app/view_launch.h"
 #include "io/lcm/channels.h"
 #include "live/lcm_input.h"
 #include "live/lcm_loop.h"
@@ -56,6 +57,14 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"auto", "drop", "block"}));
     app.add_option("--stall-s", stall_s, "no camera frame for this long (data time) counts as a camera stall [s]");
     app.add_option("--idle-timeout", idle_s, "live transports: stop after this long without messages [s] (0: never)");
+    bool tracks = false;
+    std::string rerun;
+    app.add_flag("--tracks", tracks, "with --out: also write OUT/tracks.csv (the tracked features of every frame)");
+    app.add_option("--rerun", rerun,
+                   "with --out: at the end, log the run (trajectory, force, tracked features; images when --sensors "
+                   "is a dataset folder) to this Rerun .rrd file with `vid-eval view` (implies --tracks); live: "
+                   "run `vid-eval view --lcm URL --spawn` beside it")
+        ->needs("--out");
     app.add_flag("--quiet", quiet, "warnings only");
     if (const auto code = vid::app::parse_cli(app, argc, argv)) return *code;
     if (quiet) spdlog::set_level(spdlog::level::warn);
@@ -71,6 +80,7 @@ int main(int argc, char** argv) {
     if (!channels.empty()) opt.channels = vid::lcm_io::load_channels(channels);
     if (!config.empty()) opt.session.config = config;
     if (!out.empty()) opt.session.out_dir = out;
+    opt.session.write_tracks = tracks || !rerun.empty();
     if (!mode.empty()) opt.session.mode = vid::mode_from_string(mode);
     if (!init.empty()) opt.session.init = vid::init_mode_from_string(init);
     opt.session.has_rotor = !thrust && opt.calibration.rotor.has_value();
@@ -116,6 +126,12 @@ int main(int argc, char** argv) {
                                            log_scan->events));
     spdlog::info("input ended ({}): {} states published, health {}, {} re-initializations", end,
                  engine.published_states(), s["health"].get<std::string>(), s["reinit_count"].get<int>());
+    if (!rerun.empty() && end != "stopped") {
+      std::optional<std::filesystem::path> images;  // a recorded dataset as --sensors has the images
+      if (!sensors.empty() && std::filesystem::exists(std::filesystem::path(sensors) / "mav0" / "imu0" / "data.csv"))
+        images = sensors;
+      vid::app::write_rerun_recording(argv[0], out, images, rerun);
+    }
     return end == "stopped" ? 130 : 0;
   });
 }

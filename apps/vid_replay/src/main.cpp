@@ -52,6 +52,9 @@ int main(int argc, char** argv) {
     std::vector<double> stall;
     app.add_option("--camera-stall", stall, "fault: START DURATION [s]: no images in that span")->expected(2);
     app.add_option("--fault-seed", f.seed, "seed of the fault injection");
+    app.add_option("--image-bit-depth", opt.image_bit_depth,
+                   "significant bits of 16-bit images, e.g. 12 (default 0: found per camera from sample images)")
+        ->check(CLI::IsMember({0, 9, 10, 11, 12, 13, 14, 15, 16}));
     app.add_option("--report", report, "write what was published and every injected fault as JSON");
     bool quiet = false;
     app.add_flag("--quiet", quiet, "no progress bar, warnings only");

@@ -13,6 +13,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "app/data_window.h"
+#include "app/image_depth.h"
 #include "app/prefetch.h"
 #include "app/progress.h"
 #include "io/csv_reader.h"
@@ -201,6 +202,8 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   po.end_s = opt.end_s.value_or(-1.0);
   po.decode_threads = 1;
   po.capacity = 256;
+  const app::CameraDepths depths = app::camera_bit_depths(reader.mav0(), opt.image_bit_depth);
+  po.image_bits = {depths.bits(0), depths.bits(1)};
   for (int pass = 0; pass < loops && !stop.load(); ++pass) {
     std::optional<io::DatasetReader> again;  // a pass reads the folder afresh
     if (pass > 0) again.emplace(opt.dataset, ro);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "app/data_window.h"
+#include "app/image_depth.h"
 #include "app/prefetch.h"
 #include "app/progress.h"
 #include "io/dataset_reader.h"
@@ -57,6 +58,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   so.init = opt.init;
   so.features = source;
   so.context = opt.dataset.string();
+  so.write_tracks = opt.write_tracks;
   system::System session(system::make_system_params(so, reader.calibration()));
   session.frame_faults().set_strict(opt.strict);
 
@@ -71,6 +73,11 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   po.max_frames = static_cast<std::size_t>(std::max(4, 2 * po.decode_threads));
   po.capacity = 1024;  // IMU / rotor / truth rows between the frames ahead
   po.background_nice = 5;  // short of cores, frontend + estimator run first (per-frame times)
+  // 16-bit images: one scale per camera for the whole run, from samples of the stream.
+  const CameraDepths depths = source == system::FeatureSource::kImages
+                                  ? camera_bit_depths(reader.mav0(), session.params().config.frontend.image_bit_depth)
+                                  : CameraDepths{};
+  po.image_bits = {depths.bits(0), depths.bits(1)};
   Prefetcher prefetch(reader, po);
 
   // Progress over data time.
@@ -138,6 +145,9 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   const double data_s = ns_to_s(t_last_used - t_first_used);
   nlohmann::json s = session.summary();
   s["dataset"] = fs::absolute(opt.dataset).string();
+  if (source == system::FeatureSource::kImages)
+    for (int cam = 0; cam < 2; ++cam)
+      s["image_bit_depth"]["cam" + std::to_string(cam)] = {{"bits", depths.cams[cam].bits}, {"how", depths.cams[cam].how}};
   if (error) {
     s["status"] = "error";
     s["status_message"] = error_message;

@@ -8,6 +8,7 @@
 
 #include "app/cli.h"
 #include "app/run_main.h"
+#include "app/view_launch.h"
 #include "vid_run/dataset_run.h"
 
 namespace {
@@ -45,6 +46,12 @@ int main(int argc, char** argv) {
                    "error naming file and line (default 100; 0: no check)")
         ->check(CLI::NonNegativeNumber);
     app.add_flag("--allow-gaps", opt.allow_gaps, "such a gap is a warning instead of an error");
+    app.add_flag("--tracks", opt.write_tracks,
+                 "also write OUT/tracks.csv: the tracked features of every frame (vid_track's format)");
+    std::string rerun;
+    app.add_option("--rerun", rerun,
+                   "after the run, log it (trajectory, force, tracked features, images) to this Rerun .rrd file "
+                   "with `vid-eval view` (implies --tracks)");
     bool quiet = false;
     app.add_flag("--quiet", quiet, "no progress bar, warnings only");
     if (const auto code = vid::app::parse_cli(app, argc, argv)) return *code;
@@ -58,7 +65,10 @@ int main(int argc, char** argv) {
     if (quiet) spdlog::set_level(spdlog::level::warn);
     std::signal(SIGINT, on_sigint);
     std::signal(SIGTERM, on_sigint);
+    if (!rerun.empty()) opt.write_tracks = true;
     const auto result = vid::app::run(opt, g_stop);
+    if (!rerun.empty() && result != vid::app::RunResult::kInterrupted)
+      vid::app::write_rerun_recording(argv[0], opt.out_dir, opt.dataset, rerun);
     if (result == vid::app::RunResult::kDiverged) spdlog::error("the estimator diverged (see summary.json)");
     if (result == vid::app::RunResult::kInterrupted) spdlog::warn("interrupted: outputs and summary.json written");
     return static_cast<int>(result);

@@ -85,14 +85,21 @@ def _boxplots(records: List[dict], out: pathlib.Path) -> List[pathlib.Path]:
     import matplotlib.pyplot as plt
     ok = [r for r in records if r.get("kind") == "estimate" and r.get("status") == "ok"]
     out.mkdir(parents=True, exist_ok=True)
-    written = []
+    written: List[pathlib.Path] = []
+
+    def unique(name: str) -> pathlib.Path:  # two labels may map to one file name: never overwrite
+        path, n = out / f"{name}.png", 2
+        while path in written:
+            path, n = out / f"{name}_{n}.png", n + 1
+        return path
+
     for scen in sorted({_scenario(r) for r in ok}):
         rs = [r for r in ok if _scenario(r) == scen]
-        path = out / f"box_preset_{scen.replace(' ', '_')}.png"
+        path = unique(f"box_preset_{scen.replace(' ', '_')}")
         _box_figure(plt, rs, sorted({_config(r) for r in rs}), _config, f"{scen}: {len(rs)} runs", path)
         written.append(path)
     for param in sorted({k for r in ok for k in r if k.startswith("param.")}):
-        path = out / f"box_param_{param[6:]}.png"
+        path = unique(f"box_param_{param[6:]}")
         _box_figure(plt, ok, sorted({yaml_scalar(r[param]) for r in ok if param in r}), lambda r: yaml_scalar(r.get(param)),
                     f"{param[6:]} (all scenarios)", path)
         written.append(path)

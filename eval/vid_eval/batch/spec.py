@@ -121,6 +121,11 @@ def load_batch(path: pathlib.Path, repo: pathlib.Path) -> List[Task]:
         tasks += _nees_tasks(r, data["nees"])
     if not tasks:
         r.fail("scenarios", "the batch has no runs (give scenarios, sequences, massid or nees)")
+    ids = [t.id for t in tasks]
+    dup = next((i for i in ids if ids.count(i) > 1), None)
+    if dup is not None:  # e.g. grid values 'a b' and 'a_b': one record file for two runs
+        r.fail("grid", f"two runs would share the id {dup} (values that differ only in characters "
+                       "other than letters, digits and ._=-): rename one")
     return tasks
 
 
@@ -158,6 +163,11 @@ def _estimate_tasks(r: _Reader, data: dict, repo: pathlib.Path) -> List[Task]:
         if not folder.is_dir():
             r.fail(f"sequences[{i}]", f"no dataset folder {seq!r}")
         label = safe_id(folder.name)
+        if any(label == lab for lab, _, _ in inputs):  # day1/flight, day2/flight: keep both apart
+            label = safe_id(f"{folder.parent.name}_{folder.name}")
+        if any(label == lab for lab, _, _ in inputs):
+            r.fail(f"sequences[{i}]", f"{seq!r} has the name of an earlier input ({label}): its "
+                                      "records, outputs and plots would overwrite that one's")
         inputs.append((label, {"preset": None, "duration": None, "seed": None, "sequence": label,
                                "dataset": str(folder.resolve())}, None))
     grid = data.get("grid", {}) or {}

@@ -5,8 +5,9 @@ import argparse
 import json
 import math
 import os
+import re
 from pathlib import Path
-from typing import Any, Dict, Optional
+from typing import Any, Dict, Optional, Sequence
 
 from ..loaders import find_phases, load_phases
 from ..pairing import PairingOptions
@@ -32,6 +33,10 @@ def add_output_args(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("output")
     g.add_argument("--json", metavar="OUT", help="write the results as JSON to OUT")
     g.add_argument("--plot", metavar="DIR", help="write PNG plots into DIR")
+    g.add_argument("--plot-prefix", metavar="NAME", default=None,
+                   help="start the plot file names with NAME_ (default: SEQUENCE_METHOD_ from "
+                        "--sequence/--method, else nothing); a plot of other inputs is never "
+                        "overwritten")
     g.add_argument("--method", help="method name stored in the JSON (for `vid-eval report`)")
     g.add_argument("--sequence", help="sequence name stored in the JSON (for `vid-eval report`)")
 
@@ -92,6 +97,24 @@ def finish(args: argparse.Namespace, result: Dict[str, Any]) -> None:
         if out.parent and not out.parent.exists():
             out.parent.mkdir(parents=True, exist_ok=True)
         out.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
+
+
+def plot_names(args: argparse.Namespace, command: str, bases: Sequence[str]) -> Dict[str, str]:
+    """File names of the command's plots (``--plot-prefix``, else ``SEQUENCE_METHOD_``),
+    checked before anything is computed: none may hold the plot of other inputs (issue #25).
+    Returns base name -> file name; empty without ``--plot``."""
+    if not args.plot:
+        return {}
+    from ..plots.style import check_plot_targets  # matplotlib only when plotting
+
+    prefix = args.plot_prefix
+    if prefix is None:
+        prefix = "_".join(x for x in (getattr(args, "sequence", None), getattr(args, "method", None)) if x)
+    prefix = re.sub(r"[^A-Za-z0-9._=-]+", "_", prefix)
+    names = {b: (f"{prefix}_{b}" if prefix else b) for b in bases}
+    args.plot_stamp = f"{command} est={abspath(args.est)} gt={abspath(args.gt)}"
+    check_plot_targets(args.plot, names.values(), args.plot_stamp)
+    return names
 
 
 def abspath(p: str) -> str:

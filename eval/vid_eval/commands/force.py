@@ -16,8 +16,8 @@ from ..alignment import ALIGN_MODES
 from ..force_frames import Mass, mass_at, newton_to_accel, rotate_series
 from ..force_metrics import force_errors
 from ..force_response import force_response
-from ..gauge import (WorldGauge, find_estimate_trajectory, find_gt_trajectory, rotate_world,
-                     world_gauge_from_files)
+from ..gauge import (WorldGauge, find_estimate_trajectory, find_gt_trajectory, rotate_orientations,
+                     rotate_world, world_gauge_from_files)
 from ..loaders import (find_mass_source, load_force_estimate, load_force_gt, load_mass,
                        load_state, load_trajectory, load_vehicle_mass)
 from ..pairing import pair_vectors
@@ -25,7 +25,7 @@ from ..phase_metrics import force_phase_lines, force_phase_report
 from ..phases import PhaseSegmentation
 from ..series import Trajectory, VectorSeries
 from .common import (abspath, add_output_args, add_pairing_args, add_phase_args, finish,
-                     pairing_from_args, phases_from_args)
+                     pairing_from_args, phases_from_args, plot_names)
 
 
 def add_parser(sub) -> None:
@@ -102,22 +102,41 @@ def _load_estimate(args) -> Tuple[VectorSeries, Optional[VectorSeries], Optional
     return body, world, orient, fmt
 
 
+def band_orientation(est_path: str, orient: Optional[Trajectory]) -> Optional[Trajectory]:
+    """Orientations for the world 3-sigma band of a force.csv: ``--state`` when given, else
+    the run's own state.csv / trajectory_tum.txt next to it (force.csv's sigma is body-frame,
+    so without orientations the world plot would have no band, issue #25)."""
+    if orient is not None:
+        return orient
+    found = find_estimate_trajectory(est_path)
+    return None if found is None else load_trajectory(str(found))
+
+
 def _estimate_in(frame: str, body: VectorSeries, world: Optional[VectorSeries],
-                 orient: Optional[Trajectory]) -> VectorSeries:
-    """The estimate in ``frame`` (the estimator's own world); world values come from
-    force.csv's fw columns when present, the world 3-sigma band from rotating the body sigma
-    with the estimated orientation."""
+                 orient: Optional[Trajectory], gauge: Optional[WorldGauge] = None) -> VectorSeries:
+    """The estimate in ``frame``; in the ground truth's world when ``gauge`` is given, else the
+    estimator's own. World values come from force.csv's fw columns when present; the world
+    3-sigma band from rotating the body sigma with the orientations, in one step (q_GI) when
+    there is a gauge. Samples without an orientation at their time drop."""
     if frame == "body":
         return body
+    if gauge is not None and orient is not None:
+        orient = rotate_orientations(orient, gauge)
     if world is None:
         if orient is None:
             raise ConfigurationError("EST has only body-frame force: give --state for the world frame")
         return rotate_series(body, orient, "world")
+    if gauge is not None:
+        world = rotate_world(world, gauge)  # fw columns carry no sigma: values only
     if orient is None:
         return world
     rot = rotate_series(body, orient, "world")
-    idx = np.searchsorted(world.t_ns, rot.t_ns)
-    return VectorSeries(rot.t_ns, world.values[idx], "world", "m/s^2", rot.sigma, world.source)
+    idx = np.minimum(np.searchsorted(world.t_ns, rot.t_ns), len(world.t_ns) - 1)
+    same = world.t_ns[idx] == rot.t_ns
+    if not np.any(same):
+        raise AssociationError(f"{world.source}: no force row at the times of the orientations")
+    return VectorSeries(rot.t_ns[same], world.values[idx[same]], "world", "m/s^2",
+                        rot.sigma[same], world.source)
 
 
 def _gt_poses_path(args) -> Optional[str]:
@@ -142,9 +161,8 @@ def _paired(args, frame: str, loaded) -> Tuple[VectorSeries, VectorSeries, Optio
     """Estimate and truth in ``frame`` (the world one after the gauge), paired; the gauge."""
     body, world, orient_est, est_fmt, gt = loaded
     gauge = _world_gauge(args, est_fmt) if frame == "world" else None
-    est = _estimate_in(frame, body, world, orient_est)
-    if gauge is not None:
-        est = rotate_world(est, gauge)
+    band = band_orientation(args.est, orient_est) if world is not None and frame == "world" else orient_est
+    est = _estimate_in(frame, body, world, band, gauge)
     if gt.frame != frame:
         gt = rotate_series(gt, _gt_orientation(args, orient_est, frame), frame)
     pe, pg = pair_vectors(est, gt, pairing_from_args(args))
@@ -153,6 +171,7 @@ def _paired(args, frame: str, loaded) -> Tuple[VectorSeries, VectorSeries, Optio
 
 def run(args: argparse.Namespace) -> int:
     """Compute, print, write JSON/plot."""
+    names = plot_names(args, "force", (f"force_{args.frame}.png", f"force_response_{args.frame}.png"))
     body, world, orient_est, est_fmt = _load_estimate(args)
     gt = load_force_gt(args.gt)
     gt.frame = args.gt_frame
@@ -190,10 +209,16 @@ def run(args: argparse.Namespace) -> int:
         print("\n".join(force_phase_lines(out["phases"])))
     if args.plot:
         from ..plots.force import plot_force
+
+        if pe.sigma is None:  # say why the plot has no band rather than leave it out silently
+            print(f"note: no ±3σ band in the {args.frame} frame: force.csv's sigma is body-frame and "
+                  f"no orientations were found (give --state STATE_CSV)")
         from ..plots.force_response import plot_force_response
 
-        plot_force(res, args.plot, f"force_{args.frame}.png", phases=phases)
-        plot_force_response(resp, args.plot, f"force_response_{args.frame}.png")
+        plot_force(res, args.plot, names[f"force_{args.frame}.png"], phases=phases,
+                   stamp=args.plot_stamp)
+        plot_force_response(resp, args.plot, names[f"force_response_{args.frame}.png"],
+                            stamp=args.plot_stamp)
     finish(args, out)
     return 0
 

@@ -6,7 +6,8 @@ import argparse
 from ..loaders import load_mass
 from ..mass_metrics import MassResult
 from ..pairing import pair_scalars
-from .common import abspath, add_output_args, add_pairing_args, finish, pairing_from_args
+from .common import (abspath, add_output_args, add_pairing_args, finish, pairing_from_args,
+                     plot_names)
 
 
 def add_parser(sub) -> None:
@@ -25,6 +26,7 @@ def add_parser(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compute, print, write JSON/plot."""
+    names = plot_names(args, "mass", ("mass.png",))
     est = load_mass(args.est)
     gt = load_mass(args.gt)
     if args.skip > 0:
@@ -38,6 +40,6 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         from ..plots.mass import plot_mass
 
-        plot_mass(res, args.plot)
+        plot_mass(res, args.plot, names["mass.png"], stamp=args.plot_stamp)
     finish(args, out)
     return 0

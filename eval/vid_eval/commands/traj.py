@@ -9,7 +9,7 @@ from ..loaders import TRAJ_FORMATS, load_trajectory
 from ..phase_metrics import pose_phase_lines, pose_phase_report
 from ..rpe import DEFAULT_PERCENTAGES, compute_rpe, default_distances, rpe_as_dict
 from .common import (abspath, add_output_args, add_pairing_args, add_phase_args, finish,
-                     pairing_from_args, phases_from_args)
+                     pairing_from_args, phases_from_args, plot_names)
 
 
 def _distances(text: str):
@@ -48,6 +48,7 @@ def add_parser(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compute, print, write JSON/plots."""
+    names = plot_names(args, "traj", ("traj_views.png", "traj_errors.png", "traj_rpe.png"))
     est = load_trajectory(args.est, args.est_format)
     gt = load_trajectory(args.gt, args.gt_format)
     phases = phases_from_args(args, args.gt)
@@ -84,8 +85,9 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         from ..plots.trajectory import plot_errors, plot_rpe, plot_views
 
-        plot_views(res, args.plot, full_gt=gt)
-        plot_errors(res, args.plot, phases=phases)
-        plot_rpe(segments, args.plot)
+        stamp = args.plot_stamp
+        plot_views(res, args.plot, full_gt=gt, name=names["traj_views.png"], stamp=stamp)
+        plot_errors(res, args.plot, phases=phases, name=names["traj_errors.png"], stamp=stamp)
+        plot_rpe(segments, args.plot, name=names["traj_rpe.png"], stamp=stamp)
     finish(args, out)
     return 0

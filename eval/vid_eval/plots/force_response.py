@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Optional
 
 import numpy as np
 
@@ -14,7 +15,8 @@ _BEFORE_S = 0.3  # shown before each step, to see the level it leaves
 
 
 def plot_force_response(res: ForceResponse, out_dir: os.PathLike,
-                        name: str = "force_response.png", max_steps: int = 6) -> Path:
+                        name: str = "force_response.png", max_steps: int = 6,
+                        stamp: Optional[str] = None) -> Path:
     """Top row: correlation curves (lag marked) and |force| over time (steps, pulses marked).
     Then one row per step (the first ``max_steps``): axes around the step, and |error| with
     the settling band and the settling time."""
@@ -68,4 +70,4 @@ def plot_force_response(res: ForceResponse, out_dir: os.PathLike,
     axes[-1, 0].set_xlabel("time [s]")
     axes[-1, 1].set_xlabel("time [s]")
     fig.suptitle(f"force response ({len(res.steps)} steps, {len(res.pulses)} pulses)")
-    return save(fig, out_dir, name)
+    return save(fig, out_dir, name, stamp)

@@ -3,12 +3,14 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Optional
 
 from ..mass_metrics import MassResult
 from .style import ERR_COLOR, EST_COLOR, GT_COLOR, new_figure, save
 
 
-def plot_mass(res: MassResult, out_dir: os.PathLike, name: str = "mass.png") -> Path:
+def plot_mass(res: MassResult, out_dir: os.PathLike, name: str = "mass.png",
+              stamp: Optional[str] = None) -> Path:
     """Two panels: mass [kg] over time, percentage error [%] over time."""
     fig, axes = new_figure(2, 1, width=10, height=6.5, sharex=True)
     t0 = min(res.est.t_ns[0], res.gt.t_ns[0])
@@ -29,4 +31,4 @@ def plot_mass(res: MassResult, out_dir: os.PathLike, name: str = "mass.png") -> 
     ax.set_ylabel("error [%]")
     ax.set_xlabel("time [s]")
     ax.legend(loc="best", fontsize=8)
-    return save(fig, out_dir, name)
+    return save(fig, out_dir, name, stamp)

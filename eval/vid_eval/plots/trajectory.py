@@ -14,26 +14,28 @@ from .phases import shade_phases
 from .style import ERR_COLOR, EST_COLOR, GT_COLOR, new_figure, save
 
 
-def plot_views(res: AteResult, out_dir: os.PathLike, full_gt=None, title: str = "") -> Path:
+def plot_views(res: AteResult, out_dir: os.PathLike, full_gt=None, title: str = "",
+               name: str = "traj_views.png", stamp: Optional[str] = None) -> Path:
     """Top (x-y) and side (x-z) views of the aligned estimate over the ground truth."""
     fig, axes = new_figure(1, 2, width=12, height=5.5)
     gt = full_gt if full_gt is not None else res.gt
     est = res.est_aligned.p
-    for ax, (i, j), name in zip(axes, [(0, 1), (0, 2)], ["top view", "side view"]):
+    for ax, (i, j), view in zip(axes, [(0, 1), (0, 2)], ["top view", "side view"]):
         ax.plot(gt.p[:, i], gt.p[:, j], color=GT_COLOR, lw=1.2, label="ground truth")
         ax.plot(est[:, i], est[:, j], color=EST_COLOR, lw=1.0, label=f"estimate ({res.alignment.mode})")
         ax.plot(est[0, i], est[0, j], "o", color="tab:green", label="start")
         ax.set_xlabel(f"{'xyz'[i]} [m]")
         ax.set_ylabel(f"{'xyz'[j]} [m]")
         ax.set_aspect("equal", adjustable="datalim")
-        ax.set_title(name)
+        ax.set_title(view)
         ax.legend(loc="best", fontsize=8)
     fig.suptitle(title or f"ATE {res.pos_rmse:.3f} m RMSE, alignment {res.alignment.mode}")
-    return save(fig, out_dir, "traj_views.png")
+    return save(fig, out_dir, name, stamp)
 
 
 def plot_errors(res: AteResult, out_dir: os.PathLike,
-                phases: Optional[PhaseSegmentation] = None) -> Path:
+                phases: Optional[PhaseSegmentation] = None, name: str = "traj_errors.png",
+                stamp: Optional[str] = None) -> Path:
     """Position error [m] (and rotation error [deg]) over time; with ``phases``, landed
     intervals shaded and lift-off / touchdown marked."""
     rows = 2 if res.rot_err_deg is not None else 1
@@ -59,10 +61,11 @@ def plot_errors(res: AteResult, out_dir: os.PathLike,
             shade_phases(a, phases, int(res.gt.t_ns[0]), label=True)
             a.legend(loc="upper left", fontsize=8)
     axes[-1, 0].set_xlabel("time since first pose [s]")
-    return save(fig, out_dir, "traj_errors.png")
+    return save(fig, out_dir, name, stamp)
 
 
-def plot_rpe(segments: Sequence[RpeSegment], out_dir: os.PathLike) -> Optional[Path]:
+def plot_rpe(segments: Sequence[RpeSegment], out_dir: os.PathLike, name: str = "traj_rpe.png",
+             stamp: Optional[str] = None) -> Optional[Path]:
     """Box plots of the relative translation [m] and rotation [deg] error per length."""
     segs: List[RpeSegment] = [s for s in segments if len(s.trans_err)]
     if not segs:
@@ -78,4 +81,4 @@ def plot_rpe(segments: Sequence[RpeSegment], out_dir: os.PathLike) -> Optional[P
     for ax in axes:
         ax.set_xlabel("distance travelled [m]")
     fig.suptitle("relative pose error per sub-trajectory length")
-    return save(fig, out_dir, "traj_rpe.png")
+    return save(fig, out_dir, name, stamp)

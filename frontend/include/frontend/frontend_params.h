@@ -29,6 +29,10 @@ struct FrontendParams {
   int detect_min_missing = 8;   ///< detect only when at least this many features are missing
 
   // --- pre-processing ---
+  /// Significant bits of 16-bit images (a 12-bit camera right-aligned in 16-bit PNGs: 12);
+  /// 0 = auto: found once per camera stream from sample images (vid::detect_bit_depth) and kept
+  /// for the whole stream. 16-bit pixels are divided by 2^(bits - 8); 8-bit images ignore it.
+  int image_bit_depth = 0;
   Equalization equalization = Equalization::kNone;
   double clahe_clip_limit = 2.0;
   int clahe_tile = 8;           ///< CLAHE tiles per side

@@ -58,6 +58,9 @@ struct SystemParams {
   std::string mode_source = "parameters";           ///< where the mode came from (summary.json)
   FeatureSource features = FeatureSource::kImages;  ///< kImages or kFeat0 (not kAuto)
   std::optional<std::filesystem::path> out_dir;     ///< docs/formats.md §2 files; nullopt: none
+  /// also write out_dir/tracks.csv: the frontend's tracked features per frame, vid_track's format
+  /// (for viewing a run: `vid-eval view`)
+  bool write_tracks = false;
   /// vehicle of the input's ground truth: its mass turns force0 [N] into m/s^2 for the force
   /// metrics when no mass0 stream is pushed (the dataset's own vehicle.yaml)
   std::optional<VehicleParams> truth_vehicle;
@@ -66,6 +69,7 @@ struct SystemParams {
 /// @brief What a program knows before the first measurement (command line, streams present).
 struct SystemOptions {
   std::optional<std::filesystem::path> out_dir;  ///< nullopt: no output files
+  bool write_tracks = false;                     ///< also out_dir/tracks.csv (SystemParams::write_tracks)
   std::optional<std::filesystem::path> config;   ///< preset folder or its estimator.yaml
   std::optional<PropagationMode> mode;           ///< nullopt: preset `mode:`, else auto
   std::optional<InitMode> init;

@@ -77,5 +77,9 @@ std::string state_csv_header();
 std::string force_csv_header();
 /// @brief Header line of timing.csv.
 std::string timing_csv_header();
+/// @brief Header line of tracks.csv (vid_track's output, vid_eval.formats.TRACKS_COLUMNS).
+std::string tracks_csv_header();
+/// @brief One row of tracks.csv: time, camera, feature id, distorted pixel u, v.
+std::string tracks_csv_row(TimeNs t_ns, const FeatureObservation& ob);
 
 }  // namespace vid::system

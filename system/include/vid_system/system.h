@@ -5,6 +5,7 @@
 /// measurement at a time. vid_run drives it from a dataset reader, vid_live from LCM, the
 /// accuracy tests from simulator folders. The data flow reads top to bottom in system.cpp.
 
+#include <array>
 #include <functional>
 #include <map>
 #include <memory>
@@ -52,7 +53,10 @@ class System {
   void push(const RotorSample& s);
   void push(const ThrustSample& s);
   /// @brief A camera frame by image paths, decoded here: an unreadable or wrongly sized image
-  /// skips its frame (counted in summary.json).
+  /// skips its frame (counted in summary.json). 16-bit images use the frontend's
+  /// image_bit_depth, or with 0 (auto) the depth found from each camera's first image, kept
+  /// for the run (programs that know the whole stream find it from samples and push decoded
+  /// frames: app::camera_bit_depths).
   void push(const ImageFrame& frame);
   /// @brief A camera frame as decoded images; checked and counted as push(ImageFrame).
   void push(const StereoFrame& frame);
@@ -132,8 +136,10 @@ class System {
   SystemParams p_;
   std::unique_ptr<Pipeline> pipeline_;
   std::unique_ptr<FrontendStage> frontend_;
+  std::array<int, 2> image_bits_{0, 0};  ///< per camera, for push(ImageFrame); 0 until known
   std::vector<std::unique_ptr<CameraModel>> models_;  ///< feat0 undistortion
   std::optional<RunOutputs> outputs_;
+  std::optional<FlushedFile> tracks_;  ///< tracks.csv (SystemParams::write_tracks)
   FilterStatus last_status_ = FilterStatus::kWaitingForInit;
   StageTimes stage_times_;
   std::map<TimeNs, double> tracking_ms_;

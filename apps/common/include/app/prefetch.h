@@ -4,6 +4,7 @@
 /// (vid_run: while the frontend and estimator work; vid_replay: ahead of a real-time schedule).
 /// The consumer gets the same measurements in the same order whatever the number of threads.
 
+#include <array>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -45,6 +46,9 @@ struct PrefetchOptions {
   /// short, the consumer then runs first and the decoders use what is left, so decode-ahead
   /// does not stretch the consumer's per-frame wall time.
   int background_nice = 0;
+  /// Significant bits of each camera's 16-bit images (vid::decode_gray8), index cam_id 0 / 1;
+  /// fixed for the run (see app/image_depth.h).
+  std::array<int, 2> image_bits{16, 16};
 };
 
 /// @brief Totals over the run (for summary.json).

@@ -48,6 +48,9 @@ struct ReplayOptions {
   /// exactly regular across the seam. Each pass injects its own faults (options are per pass).
   int loops = 1;
   bool progress = true;
+  /// Significant bits of 16-bit images (published as mono8 scaled by 2^(bits-8)); 0 = auto
+  /// per camera stream from sample images (app::camera_bit_depths), as vid_run decodes them.
+  int image_bit_depth = 0;
 };
 
 /// @brief Publish the dataset. Returns a report: messages per channel and every injected

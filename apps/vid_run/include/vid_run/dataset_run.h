@@ -34,6 +34,8 @@ struct RunOptions {
   /// Threads decoding images ahead of the frontend (plus one reading the files); 0: read and
   /// decode inline on the estimator thread. Outputs are the same either way.
   int decode_threads = 1;
+  /// Also write out_dir/tracks.csv (the frontend's tracked features, vid_track's format).
+  bool write_tracks = false;
 };
 
 /// @brief How a run ended (the program's exit code follows it).
