@@ -29,8 +29,8 @@ struct FrontendParams {
   int detect_min_missing = 8;   ///< detect only when at least this many features are missing
 
   // --- pre-processing ---
-  Equalization equalization = Equalization::kNone;
-  double clahe_clip_limit = 2.0;
+  Equalization equalization = Equalization::kNone;  ///< contrast equalization before detection and tracking
+  double clahe_clip_limit = 2.0;  ///< CLAHE contrast limit (equalization: clahe)
   int clahe_tile = 8;           ///< CLAHE tiles per side
 
   // --- pyramidal Lucas-Kanade ---
@@ -56,9 +56,9 @@ struct FrontendParams {
   double template_max_shift_px = 2.0;  ///< drop if the alignment moves the KLT result further
 
   // --- temporal outlier rejection ---
-  RansacMode ransac = RansacMode::kFundamental;
+  RansacMode ransac = RansacMode::kFundamental;  ///< temporal outlier model (two_point: translation given the gyro rotation)
   double ransac_threshold_px = 1.0;  ///< epipolar error threshold (converted with the focal length)
-  double ransac_confidence = 0.99;
+  double ransac_confidence = 0.99;   ///< RANSAC success probability, in (0, 1)
   int ransac_max_iterations = 200;   ///< for the 2-point model
 
   // --- stereo ---
