@@ -104,8 +104,9 @@ def run(args: argparse.Namespace) -> int:
           f"{span[0]:.2f}-{span[1]:.2f} s ({int(window.sum()) - len(data.t_ns)} dropped: low thrust or rotor gaps), "
           f"mass {mass:g} kg ({mass_src}), model {args.model}, bias {args.bias}"
           + (", force0 subtracted" if force_z is not None else ""))
-    for i, (k, s) in enumerate(zip(fit.coefficients, fit.sigma)):
-        print(f"  k_{i + 1} = {k:.6e} N/({unit})^2  +- {s:.2e} ({100 * s / abs(k):.2f} %)")
+    names = [f"k_{i + 1}" for i in range(len(fit.coefficients))] if args.model == "per-rotor" else ["k (every rotor)"]
+    for name, k, s in zip(names, fit.coefficients, fit.sigma):
+        print(f"  {name} = {k:.6e} N/({unit})^2  +- {s:.2e} ({100 * s / abs(k):.2f} %)")
     print(f"  accelerometer bias z = {fit.bias_z:+.4f} m/s^2"
           f"{' (fitted)' if args.bias == 'fit' else ' (ground truth, mean)' if args.bias == 'groundtruth' else ''}")
     print(f"  residual RMS {fit.rms:.4f} m/s^2 (design condition number {fit.condition:.3g})")
