@@ -42,9 +42,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--start", type=float, default=0.0, metavar="S",
                    help="use data from S seconds after the first IMU sample (default 0)")
     p.add_argument("--end", type=float, metavar="S", help="... up to S seconds (default: the end)")
-    p.add_argument("--min-thrust-fraction", type=float, default=0.5, metavar="F",
+    p.add_argument("--min-thrust-fraction", type=float, default=0.25, metavar="F",
                    help="drop samples whose sum n_i^2 is below F times its median (ground, idle, "
-                        "spin-up; default 0.5)")
+                        "spin-up; default 0.25)")
     p.add_argument("--out", metavar="FILE", help="write the fitted vehicle.yaml here")
     p.add_argument("--plot", metavar="FILE.png", help="write the residual plot here")
     return p
