@@ -83,6 +83,16 @@ def test_per_rotor_solver_recovers_excited_rotors():
     assert fit.bias_z == pytest.approx(0.08, abs=0.05)
 
 
+def test_constant_thrust_cannot_separate_bias():
+    """Rotor speeds that never change leave thrust and bias one unknown: an error, no numbers."""
+    n = 1000
+    speeds = np.full((n, 4), 5300.0)
+    data = FitInput(np.arange(n, dtype=np.int64) * 2_500_000, np.full(n, 9.81), speeds ** 2)
+    with pytest.raises(ValueError, match=r"cannot separate the 2 unknowns \(design rank 1\)"):
+        fit_thrust(data, 3.1015, "collective", "fit")
+    assert fit_thrust(data, 3.1015, "collective", "none").coefficients[0] == pytest.approx(9.81 * 3.1015 / 4 / 5300.0 ** 2)
+
+
 def _one_line(r, *needles, code=1):
     assert r.returncode == code, r.stderr
     lines = r.stderr.strip().splitlines()

@@ -125,6 +125,9 @@ def fit_thrust(data: FitInput, mass_kg: float, model: str, bias: str) -> ThrustF
         raise ValueError("a rotor's speed is zero over the whole window: nothing to fit")
     A = cols / scale
     sol, _, rank, sv = np.linalg.lstsq(A, y, rcond=None)
+    if rank < n_params:  # no unique solution: any numbers printed would be arbitrary
+        raise ValueError(f"the log cannot separate the {n_params} unknowns (design rank {rank}): the thrust "
+                         "must vary (hover and vertical steps), or the bias be given (--bias groundtruth or none)")
     pred = A @ sol
     res = y - pred
     dof = max(len(y) - n_params, 1)
@@ -140,8 +143,6 @@ def fit_thrust(data: FitInput, mass_kg: float, model: str, bias: str) -> ThrustF
         k, k_sig = np.repeat(k, n_rotors), np.repeat(k_sig, n_rotors)
     b = float(params[-1]) if bias == "fit" else known_bias
     warnings = []
-    if rank < n_params:
-        warnings.append(f"the design has rank {rank} < {n_params} unknowns: the log cannot separate them")
     worst = float(np.max(k_sig / np.abs(k)))
     if model == "per-rotor" and worst > 0.01:
         warnings.append(f"per-rotor coefficients are poorly determined (1-sigma up to {100 * worst:.1f} %): "
