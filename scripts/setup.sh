@@ -56,7 +56,9 @@ REQ_HASH="$(cat "$ROOT/eval/pyproject.toml" "$ROOT/scripts/setup.sh" | sha256sum
 if [[ ! -f "$STAMP" || "$(cat "$STAMP")" != "$REQ_HASH" ]]; then
   echo "[setup] installing python packages into .venv"
   "$VENV/bin/pip" install -q --upgrade pip
-  "$VENV/bin/pip" install -q -e "$ROOT/eval[test,batch,fuzz]"
+  # pybind11 for the Python bindings (python/): from pip, as Debian 12's 2.10 predates numpy 2's
+  # C API (its arrays come out with zero strides under numpy 2).
+  "$VENV/bin/pip" install -q -e "$ROOT/eval[test,batch,fuzz]" "pybind11>=2.12,<3"
   echo "$REQ_HASH" > "$STAMP"
 else
   echo "[setup] python venv up to date"

@@ -1,4 +1,4 @@
-#include "dataset_run.h"
+#include "vid_run/dataset_run.h"
 
 #include <spdlog/spdlog.h>
 

@@ -8,7 +8,7 @@
 
 #include "app/cli.h"
 #include "app/run_main.h"
-#include "dataset_run.h"
+#include "vid_run/dataset_run.h"
 
 namespace {
 std::atomic<bool> g_stop{false};

@@ -101,6 +101,16 @@ def _ate(out: pathlib.Path, dataset: pathlib.Path, loops: int, span_ns: int) -> 
     return res
 
 
+def _udp_rcvbuf_errors() -> Optional[int]:
+    """Datagrams the kernel dropped since boot because a UDP socket's receive buffer was full
+    (Linux /proc/net/snmp ``Udp: RcvbufErrors``); None where that file does not exist."""
+    try:
+        rows = [ln.split() for ln in pathlib.Path("/proc/net/snmp").read_text().splitlines() if ln.startswith("Udp:")]
+        return int(rows[1][rows[0].index("RcvbufErrors")])
+    except (OSError, IndexError, ValueError):
+        return None
+
+
 def _growth(samples: List[dict], warmup_s: float) -> dict:
     """RSS after warm-up (the first sample at or after ``warmup_s``) and the largest later
     growth relative to it."""
@@ -131,6 +141,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-growth", type=float, default=0.05, help="allowed RSS growth (default 0.05)")
     p.add_argument("--warmup-s", type=float, default=None,
                    help="growth is measured from the first sample after this (default: two passes)")
+    p.add_argument("--live-out", type=pathlib.Path, default=None,
+                   help="vid_live's output folder (default OUT/live); a tmpfs such as /dev/shm keeps "
+                        "the disk writeback stalls of a busy machine out of the hour")
     p.add_argument("--fault-seed", type=int, default=1)
     p.add_argument("--no-faults", action="store_true", help="replay without injected faults")
     return p
@@ -161,10 +174,12 @@ def main(argv: Optional[List[str]] = None) -> int:
     out.mkdir(parents=True, exist_ok=True)
     faults = [] if args.no_faults else DEFAULT_FAULTS + ["--fault-seed", str(args.fault_seed)]
     report_path = out / "replay_report.json"
+    live_out = args.live_out or out / "live"
+    udp_drops_before = _udp_rcvbuf_errors()
     replay_cmd = [str(bins["vid_replay"]), "--dataset", str(args.dataset), "--loop", str(loops),
                   "--report", str(report_path), "--quiet", *faults]
     live_cmd = [str(bins["vid_live"]), "--sensors", str(args.dataset), "--config", str(args.config),
-                "--out", str(out / "live"), "--quiet"]
+                "--out", str(live_out), "--quiet"]
     log_path = out / "soak.log"
     print(f"[soak] {loops} passes of {span_ns * 1e-9:.3f} s ({loops * span_ns / 60e9:.1f} min of data) "
           f"over {args.transport}", flush=True)
@@ -212,9 +227,13 @@ def main(argv: Optional[List[str]] = None) -> int:
     result = {"transport": args.transport, "loops": loops, "pass_s": span_ns * 1e-9,
               "wall_s": time.monotonic() - t0, "vid_live_rc": live_rc, "vid_replay_rc": replay_rc,
               "rss_samples": samples, "vid_live_peak_rss_kb": usage.ru_maxrss,
-              "rss": _growth(samples, warmup_s)}
+              "rss": _growth(samples, warmup_s), "live_out": str(live_out)}
+    udp_drops_after = _udp_rcvbuf_errors()
+    if args.transport == "udpm" and udp_drops_before is not None and udp_drops_after is not None:
+        # every UDP socket of the machine: an upper bound of what vid_live's socket lost
+        result["udp_rcvbuf_errors"] = udp_drops_after - udp_drops_before
     ok = live_rc == 0 and replay_rc == 0
-    summary_path = out / "live" / "summary.json"
+    summary_path = live_out / "summary.json"
     if report_path.exists() and summary_path.exists():
         report = json.loads(report_path.read_text())
         summary = json.loads(summary_path.read_text())
@@ -225,7 +244,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         result["lift_offs"] = summary.get("flight_phase", {}).get("lift_offs")
         ok &= not result["mismatches"]
         try:
-            result["ate_posyaw"] = _ate(out / "live", args.dataset, loops, span_ns)
+            result["ate_posyaw"] = _ate(live_out, args.dataset, loops, span_ns)
         except (InputFormatError, OSError, ValueError) as exc:
             result["ate_posyaw"] = {"error": str(exc)}
     else:
@@ -240,6 +259,9 @@ def main(argv: Optional[List[str]] = None) -> int:
           f"{len(result.get('mismatches', []))} counter mismatches; {out / 'soak.json'}", flush=True)
     for m in result.get("mismatches", []):
         print(f"[soak]   {m}", flush=True)
+    if result.get("udp_rcvbuf_errors"):
+        print(f"[soak]   the kernel dropped {result['udp_rcvbuf_errors']} UDP datagrams for full receive "
+              f"buffers during the run (/proc/net/snmp RcvbufErrors)", flush=True)
     return 0 if ok else 1
 
 
