@@ -85,8 +85,23 @@ TRACKS_COLUMNS: List[Column] = [("timestamp", "ns"), ("cam_id", ""), ("feature_i
 NEES_COLUMNS: List[Column] = [("t", "s"), ("nees_theta", ""), ("nees_p", ""), ("nees_F", "")]
 NEES_DOF = 3
 
-#: EuRoC ``state_groundtruth_estimate0/data.csv``: 17 columns; only the first 8 are used.
+#: EuRoC ``state_groundtruth_estimate0/data.csv``: 17 columns; the pose is the first 8, the
+#: accelerometer bias ``b_a_RS_S_x..z`` the last 3 (when all 17 are there).
 EUROC_GT_MIN_COLUMNS = 8
+EUROC_GT_COLUMNS = 17
+
+#: EuRoC ``imu0/data.csv``: gyroscope [rad/s] then accelerometer [m/s^2], IMU frame.
+IMU0_COLUMNS: List[Column] = (
+    [("timestamp", "ns")]
+    + [(f"w_RS_S_{a}", "rad s^-1") for a in "xyz"]
+    + [(f"a_RS_S_{a}", "m s^-2") for a in "xyz"]
+)
+
+#: ``rotor0/data.csv``: ``timestamp [ns], n_1, ..., n_k`` in the unit of ``rotor0/sensor.yaml``.
+ROTOR0_MAX_ROTORS = 16
+
+#: ``thrust0/data.csv``: collective thrust along body z.
+THRUST0_COLUMNS: List[Column] = [("timestamp", "ns"), ("thrust", "N")]
 
 #: Plain ASL pose CSV (e.g. ``vicon0/data.csv`` or ``leica0``): timestamp, p (3), q (w,x,y,z).
 ASL_POSE_COLUMNS = 8

@@ -6,8 +6,9 @@ Each loader returns a typed series from :mod:`vid_eval.series` or raises
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Optional
+from typing import List, Optional
 
 import numpy as np
 import yaml
@@ -158,8 +159,9 @@ def find_phases(gt_path: PathLike) -> Optional[Path]:
     return cand if cand.is_file() else None
 
 
-def load_vehicle_mass(path: PathLike) -> float:
-    """``mass_kg`` of a ``vehicle.yaml`` (docs/formats.md §1)."""
+def load_yaml_mapping(path: PathLike, what: str) -> dict:
+    """A YAML file whose root is a mapping (``%YAML:1.0`` first lines accepted, as OpenCV and
+    Kalibr write them); every failure names the file (and line)."""
     spath = os.fspath(path)
     try:
         with open(spath, "r", encoding="utf-8") as handle:
@@ -167,7 +169,7 @@ def load_vehicle_mass(path: PathLike) -> float:
     except OSError as exc:
         raise InputFormatError(spath, f"cannot open: {exc.strerror}") from None
     except UnicodeDecodeError:
-        raise not_utf8(spath, "vehicle.yaml") from None
+        raise not_utf8(spath, what) from None
     if text.startswith("%YAML"):
         text = text.split("\n", 1)[1] if "\n" in text else ""
     try:
@@ -179,15 +181,83 @@ def load_vehicle_mass(path: PathLike) -> float:
         raise InputFormatError(spath, f"invalid YAML value ({exc})") from None
     except RecursionError:  # PyYAML composes nested collections recursively
         raise InputFormatError(spath, "invalid YAML (nested too deeply)") from None
-    if not isinstance(data, dict) or "mass_kg" not in data:
-        raise InputFormatError(spath, "key 'mass_kg' missing")
+    return data if isinstance(data, dict) else {}
+
+
+def yaml_number(data: dict, key: str, path: PathLike, positive: bool = False) -> float:
+    """``data[key]`` as a finite float; a missing or non-numeric value names file and key."""
+    if key not in data:
+        raise InputFormatError(path, f"key '{key}' missing")
+    value = data[key]
     try:
-        mass = float(data["mass_kg"])
+        if isinstance(value, bool):
+            raise TypeError
+        number = float(value)
     except (TypeError, ValueError, OverflowError):  # OverflowError: an integer beyond float
-        raise InputFormatError(spath, "key 'mass_kg' is not a number") from None
-    if not mass > 0.0:
-        raise InputFormatError(spath, "key 'mass_kg' must be positive")
-    return mass
+        raise InputFormatError(path, f"key '{key}' is not a number") from None
+    if not np.isfinite(number) or (positive and not number > 0.0):
+        raise InputFormatError(path, f"key '{key}' must be " + ("positive" if positive else "finite"))
+    return number
+
+
+@dataclass
+class Vehicle:
+    """``vehicle.yaml`` (docs/formats.md §1): mass, gravity magnitude, k_i [N/unit^2]."""
+
+    mass_kg: float
+    gravity: float
+    rotor_thrust_coefficients: List[float]
+    source: str = ""
+
+
+def load_vehicle(path: PathLike) -> Vehicle:
+    """``vehicle.yaml``: ``mass_kg`` required; ``gravity`` (default 9.81) and
+    ``rotor_thrust_coefficients`` (default none) optional."""
+    spath = os.fspath(path)
+    data = load_yaml_mapping(spath, "vehicle.yaml")
+    mass = yaml_number(data, "mass_kg", spath, positive=True)
+    gravity = yaml_number(data, "gravity", spath, positive=True) if "gravity" in data else 9.81
+    coeffs = data.get("rotor_thrust_coefficients") or []
+    if not isinstance(coeffs, list) or not all(
+            isinstance(c, (int, float)) and not isinstance(c, bool) and np.isfinite(c) for c in coeffs):
+        raise InputFormatError(spath, "key 'rotor_thrust_coefficients' is not a list of numbers")
+    return Vehicle(mass, gravity, [float(c) for c in coeffs], spath)
+
+
+def load_vehicle_mass(path: PathLike) -> float:
+    """``mass_kg`` of a ``vehicle.yaml`` (docs/formats.md §1)."""
+    spath = os.fspath(path)
+    return yaml_number(load_yaml_mapping(spath, "vehicle.yaml"), "mass_kg", spath, positive=True)
+
+
+@dataclass
+class ImuSeries:
+    """``imu0/data.csv``: gyroscope (N, 3) [rad/s] and accelerometer (N, 3) [m/s^2] in I."""
+
+    t_ns: np.ndarray
+    gyro: np.ndarray
+    accel: np.ndarray
+    source: str = ""
+
+
+def load_imu(path: PathLike) -> ImuSeries:
+    """EuRoC ``imu0/data.csv`` (7 columns, :data:`vid_eval.formats.IMU0_COLUMNS`)."""
+    names = [n for n, _ in formats.IMU0_COLUMNS]
+    tab = read_table(path, {len(names)}, expected_names=names, what="imu0 CSV")
+    return ImuSeries(tab.t_ns, tab.values[:, 0:3].copy(), tab.values[:, 3:6].copy(), tab.path)
+
+
+def load_rotor_speeds(path: PathLike, count: Optional[int] = None) -> Table:
+    """``rotor0/data.csv``: one speed column per rotor (``count`` of them when given, the
+    rotor0/sensor.yaml ``count``), speeds must not be negative."""
+    allowed = {count + 1} if count else range(2, formats.ROTOR0_MAX_ROTORS + 2)
+    tab = read_table(path, allowed, what="rotor0 CSV")
+    neg = np.argwhere(tab.values < 0.0)
+    if neg.size:
+        row, col = neg[0]
+        raise InputFormatError(tab.path, f"rotor0 CSV: column {col + 2}: negative rotor speed "
+                                         f"{tab.values[row, col]:g}", int(tab.lines[row]))
+    return tab
 
 
 def find_mass_source(force_gt_path: PathLike) -> Optional[Path]:

@@ -2,6 +2,8 @@
 
 #include <sstream>
 
+#include <yaml-cpp/yaml.h>
+
 #include "io/number_format.h"
 #include "io/sensor_yaml.h"
 #include "io/strict_yaml.h"
@@ -27,6 +29,25 @@ std::string kalibr_matrix(const Eigen::Matrix4d& m, const std::string& indent) {
   return out;
 }
 
+// OpenVINS' IMU intrinsics (3x3): accepted only at the value that changes nothing.
+void require_matrix3(const YamlMap& y, const char* key, const Eigen::Matrix3d& expected) {
+  if (!y.has(key)) return;
+  const YAML::Node n = y.get_raw(key);
+  Eigen::Matrix3d m;
+  try {
+    if (!n.IsSequence() || n.size() != 3) throw YAML::Exception(YAML::Mark(), "");
+    for (int r = 0; r < 3; ++r) {
+      if (!n[r].IsSequence() || n[r].size() != 3) throw YAML::Exception(YAML::Mark(), "");
+      for (int c = 0; c < 3; ++c) m(r, c) = n[r][c].as<double>();
+    }
+  } catch (const YAML::Exception&) {
+    y.fail(key, "expected a 3x3 matrix (3 rows of 3 numbers)");
+  }
+  if ((m - expected).cwiseAbs().maxCoeff() > 1e-9)
+    y.fail(key, std::string("IMU intrinsics are not modelled: must be ") +
+                    (expected.isZero() ? "zero" : "the identity"));
+}
+
 ImuNoise imu_from_map(const YamlMap& y) {
   ImuNoise imu;
   imu.accel_noise_density = y.get_double("accelerometer_noise_density");
@@ -40,10 +61,17 @@ ImuNoise imu_from_map(const YamlMap& y) {
   imu.rate_hz = y.get_double("update_rate");
   if (!(imu.rate_hz > 0.0)) y.fail("update_rate", "must be positive");
   if (y.has("T_i_b")) imu.T_BS = exact_inverse(get_rigid_transform(y, "T_i_b"));
-  // Kalibr / OpenVINS keys that carry nothing this project uses.
-  for (const char* k : {"rostopic", "model", "time_offset", "Tw", "Ta", "Tg", "R_IMUtoGYRO", "R_IMUtoACC"}) {
-    y.accept(k);
-  }
+  // The estimator models a calibrated IMU: Kalibr's "calibrated" model (OpenVINS calls it
+  // "kalibr" or "rpng" and adds the intrinsic matrices, which must then be the identity / zero).
+  // A value that would change the measurements is an error, not silently dropped.
+  const std::string model = y.get_string("model", "calibrated");
+  if (model != "calibrated" && model != "kalibr" && model != "rpng")
+    y.fail("model", "only a calibrated IMU is modelled (Kalibr --imu-models calibrated), got '" + model + "'");
+  for (const char* k : {"Tw", "Ta", "R_IMUtoGYRO", "R_IMUtoACC"}) require_matrix3(y, k, Eigen::Matrix3d::Identity());
+  require_matrix3(y, "Tg", Eigen::Matrix3d::Zero());
+  if (y.get_double("time_offset", 0.0) != 0.0)
+    y.fail("time_offset", "must be 0 (the IMU is the time reference; Kalibr's timeshift_cam_imu carries the offset)");
+  y.accept("rostopic");
   y.check_unknown();
   return imu;
 }
@@ -67,7 +95,11 @@ std::vector<CameraCalib> load_kalibr_imucam(const std::filesystem::path& path) {
     const YamlMap y = root.get_map("cam" + std::to_string(id));
     CameraCalib cam;
     cam.cam_id = id;
-    cam.T_IC = exact_inverse(get_rigid_transform(y, "T_cam_imu"));  // Kalibr's T_cam_imu is T_CI
+    // Kalibr's T_cam_imu is T_CI; OpenVINS' files may give T_imu_cam (= T_IC) instead.
+    if (y.has("T_cam_imu") && y.has("T_imu_cam"))
+      y.fail("T_imu_cam", "give T_cam_imu (Kalibr) or T_imu_cam (OpenVINS), not both");
+    cam.T_IC = y.has("T_imu_cam") ? get_rigid_transform(y, "T_imu_cam")
+                                  : exact_inverse(get_rigid_transform(y, "T_cam_imu"));
     const std::string model = y.get_string("camera_model", "pinhole");
     if (model != "pinhole") y.fail("camera_model", "only 'pinhole' is supported, got '" + model + "'");
     const std::vector<double> k = y.get_doubles("intrinsics", 4);

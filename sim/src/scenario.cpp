@@ -65,6 +65,8 @@ void parse_trajectory(const io::YamlMap& t, const std::filesystem::path& base_di
   c->zigzag_length_m = t.get_double("zigzag_length_m", c->zigzag_length_m);
   c->zigzag_width_m = t.get_double("zigzag_width_m", c->zigzag_width_m);
   c->zigzag_legs = t.get_int("zigzag_legs", c->zigzag_legs);
+  if (t.has("step_heights_m")) c->step_heights_m = t.get_doubles("step_heights_m");
+  c->hold_s = t.get_double("hold_s", c->hold_s);
   c->box_min = t.get_vec3("box_min", c->box_min);
   c->box_max = t.get_vec3("box_max", c->box_max);
   c->waypoint_spacing_s = t.get_double("waypoint_spacing_s", c->waypoint_spacing_s);
@@ -81,6 +83,7 @@ void parse_trajectory(const io::YamlMap& t, const std::filesystem::path& base_di
   if (!(c->max_accel > 0.0)) t.fail("max_accel", "must be > 0");
   if (c->ramp_s < 0.0) t.fail("ramp_s", "must be >= 0");
   if (c->start_delay_s < 0.0) t.fail("start_delay_s", "must be >= 0");
+  if (c->hold_s < 0.0) t.fail("hold_s", "must be >= 0");
 }
 
 namespace {

@@ -12,10 +12,11 @@ std::unique_ptr<Trajectory> make_trajectory(const TrajectoryConfig& c) {
   if (c.type == "lemniscate") return detail::make_lemniscate(c);
   if (c.type == "square") return detail::make_square(c);
   if (c.type == "zigzag") return detail::make_zigzag(c);
+  if (c.type == "vertical_steps") return detail::make_vertical_steps(c);
   if (c.type == "random") return detail::make_random(c);
   if (c.type == "file") return detail::make_from_file(c);
   throw std::invalid_argument("trajectory: unknown type '" + c.type +
-                              "' (hover, circle, lemniscate, square, zigzag, random, file)");
+                              "' (hover, circle, lemniscate, square, zigzag, vertical_steps, random, file)");
 }
 
 void trajectory_extremes(const Trajectory& traj, double t0, double t1, double dt, double* max_speed,

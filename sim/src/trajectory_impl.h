@@ -13,6 +13,7 @@ std::unique_ptr<Trajectory> make_circle(const TrajectoryConfig& c);
 std::unique_ptr<Trajectory> make_lemniscate(const TrajectoryConfig& c);
 std::unique_ptr<Trajectory> make_square(const TrajectoryConfig& c);
 std::unique_ptr<Trajectory> make_zigzag(const TrajectoryConfig& c);
+std::unique_ptr<Trajectory> make_vertical_steps(const TrajectoryConfig& c);
 std::unique_ptr<Trajectory> make_random(const TrajectoryConfig& c);
 std::unique_ptr<Trajectory> make_from_file(const TrajectoryConfig& c);
 

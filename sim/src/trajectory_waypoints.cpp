@@ -1,5 +1,6 @@
 /// @file trajectory_waypoints.cpp
-/// @brief Square and zigzag (rest-to-rest septic segments between corners, repeated),
+/// @brief Square, zigzag and vertical steps (rest-to-rest septic segments between corners,
+/// an optional rest at each, repeated),
 /// random smooth waypoints in a box and TUM-file trajectories (quintic B-splines).
 
 #include <array>
@@ -18,20 +19,22 @@ namespace vid::sim::detail {
 
 namespace {
 
-/// @brief Closed polygon flown corner to corner, stopping at each corner.
+/// @brief Closed polygon flown corner to corner, stopping at each corner (and resting there
+/// hold_s; the rest follows each move, so hold_s = 0 flies exactly the path without it).
 class RestToRest : public Trajectory {
  public:
   RestToRest(const TrajectoryConfig& c, std::vector<Eigen::Vector3d> corners)
       : c_(c), corners_(std::move(corners)) {
     if (!(c.max_speed > 0.0) || !(c.max_accel > 0.0))
       throw std::invalid_argument("trajectory: max_speed and max_accel must be > 0");
+    if (!(c.hold_s >= 0.0)) throw std::invalid_argument("trajectory: hold_s must be >= 0");
     double t = 0.0;
     for (std::size_t i = 0; i < corners_.size(); ++i) {
       const double L = (corners_[(i + 1) % corners_.size()] - corners_[i]).norm();
       const double T = smoothstep_duration(L, c.max_speed, c.max_accel);
       starts_.push_back(t);
       durations_.push_back(T);
-      t += T;
+      t += T + c.hold_s;
     }
     period_ = t;
   }
@@ -49,7 +52,7 @@ class RestToRest : public Trajectory {
     while (i + 1 < starts_.size() && tau >= starts_[i + 1]) ++i;
     const double T = durations_[i];
     const Eigen::Vector3d d = corners_[(i + 1) % corners_.size()] - corners_[i];
-    const auto S = smoothstep7((tau - starts_[i]) / T);
+    const auto S = smoothstep7((tau - starts_[i]) / T);  // clamped: at rest past the move
     o.p = corners_[i] + d * S[0];
     o.v = d * S[1] / T;
     o.a = d * S[2] / (T * T);
@@ -130,6 +133,19 @@ std::unique_ptr<Trajectory> make_zigzag(const TrajectoryConfig& c) {
   }
   std::vector<Eigen::Vector3d> corners = fwd;
   for (int i = c.zigzag_legs - 1; i >= 1; --i) corners.push_back(fwd[i]);
+  return std::make_unique<RestToRest>(c, corners);
+}
+
+std::unique_ptr<Trajectory> make_vertical_steps(const TrajectoryConfig& c) {
+  if (c.step_heights_m.empty()) throw std::invalid_argument("trajectory: vertical_steps needs step_heights_m");
+  // From the centre up or down to each level in turn and back to the centre: the collective
+  // thrust steps above and below the weight (the thrust-coefficient fit's log, vid-fit-thrust).
+  std::vector<Eigen::Vector3d> corners = {c.center};
+  for (const double z : c.step_heights_m) {
+    if (std::abs(z - corners.back().z()) < 1e-6 || std::abs(z - c.center.z()) < 1e-6)
+      throw std::invalid_argument("trajectory: step_heights_m: each level must differ from the previous one and the centre");
+    corners.push_back(Eigen::Vector3d(c.center.x(), c.center.y(), z));
+  }
   return std::make_unique<RestToRest>(c, corners);
 }
 

@@ -10,7 +10,7 @@ import pytest
 from test_vid_run_helpers import REPO, VENV_BIN, program, simulate_cached, vid_run
 
 CPP = ["vid_run", "vid_live", "vid_replay", "vid_sim", "vid_track", "vid_info", "vid_massid"]
-PY = ["vid-eval", "vid-bag2asl", "vid-batch", "vid-soak"]
+PY = ["vid-eval", "vid-bag2asl", "vid-batch", "vid-soak", "vid-fit-thrust", "vid-allan"]
 
 
 def head_sha() -> str:

@@ -24,6 +24,7 @@ TrajectoryConfig config(const std::string& type) {
   c.seed = 3;
   c.random_yaw_amplitude = 0.5;
   if (type == "circle") c.yaw_mode = YawMode::kFollow;
+  if (type == "vertical_steps") c.step_heights_m = {2.2, 0.7, 1.8};
   return c;
 }
 
@@ -45,8 +46,9 @@ class TrajectoryTypes : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(TrajectoryTypes, DerivativesLimitsAndRest) {
   const auto tr = make_trajectory(config(GetParam()));
-  // Square and zigzag have snap jumps at corners: central differences are checked away from them.
-  if (GetParam() != "square" && GetParam() != "zigzag") {
+  // Square, zigzag and vertical steps have snap jumps at corners: central differences are
+  // checked away from them.
+  if (GetParam() != "square" && GetParam() != "zigzag" && GetParam() != "vertical_steps") {
     check_derivatives(*tr, 0.05, 30.0);
   }
   double vmax, amax;
@@ -63,7 +65,35 @@ TEST_P(TrajectoryTypes, DerivativesLimitsAndRest) {
 }
 
 INSTANTIATE_TEST_SUITE_P(All, TrajectoryTypes,
-                         ::testing::Values("hover", "circle", "lemniscate", "square", "zigzag", "random"));
+                         ::testing::Values("hover", "circle", "lemniscate", "square", "zigzag", "vertical_steps",
+                                           "random"));
+
+TEST(Trajectory, VerticalStepsRestAtEachLevelAndRepeat) {
+  TrajectoryConfig c = config("vertical_steps");
+  c.hold_s = 0.5;
+  c.start_delay_s = 2.0;
+  const auto tr = make_trajectory(c);
+  // Levels centre -> 2.2 -> 0.7 -> 1.8 -> centre, each reached at rest and held hold_s, straight
+  // above the centre; the moves are what the thrust fit needs (vertical acceleration only).
+  double t = c.start_delay_s;
+  for (const double z : {2.2, 0.7, 1.8, c.center.z(), 2.2}) {
+    double prev = t;
+    while (std::abs(tr->eval(t).p.z() - z) > 1e-12 && t < prev + 10.0) t += 1e-3;
+    ASSERT_LT(t, prev + 10.0) << "level " << z << " not reached";
+    for (const double dt : {0.01, 0.25, 0.49}) {  // found within the last ms of the move
+      const FlatOutput o = tr->eval(t + dt);
+      EXPECT_NEAR(o.p.z(), z, 1e-12);
+      EXPECT_LT(o.v.norm() + o.a.norm(), 1e-9);
+      EXPECT_NEAR(o.p.x(), c.center.x(), 1e-12);
+      EXPECT_NEAR(o.p.y(), c.center.y(), 1e-12);
+    }
+    t += 0.5;
+  }
+  c.step_heights_m = {2.2, 2.2};
+  EXPECT_THROW(make_trajectory(c), std::invalid_argument);  // no move between two levels
+  c.step_heights_m = {};
+  EXPECT_THROW(make_trajectory(c), std::invalid_argument);
+}
 
 TEST(Trajectory, RandomStaysInBoxAndDependsOnSeed) {
   TrajectoryConfig c = config("random");

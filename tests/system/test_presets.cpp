@@ -16,6 +16,20 @@ namespace {
 namespace fs = std::filesystem;
 const fs::path kConfig = fs::path(VID_SOURCE_DIR) / "config";
 
+// Kalibr's own output files, unchanged, as a preset (issue #25): the cameras come from
+// camchain-imucam.yaml, the IMU noise of imu.yaml reaches the estimator's parameters.
+TEST(Presets, KalibrFilesAsTheyAreFormAPreset) {
+  const SystemConfig cfg = resolve_config(fs::path(VID_TEST_DATA_DIR) / "kalibr_preset", io::DatasetCalibration{});
+  ASSERT_EQ(cfg.cameras.size(), 2u);
+  EXPECT_EQ(cfg.cameras[0].distortion, DistortionModel::kEquidistant);
+  EXPECT_EQ(cfg.cameras[1].timeshift_cam_imu_s, -0.0027683686292743195);
+  EXPECT_EQ(cfg.estimator.accel_noise_density, 0.0028);
+  EXPECT_EQ(cfg.estimator.gyro_random_walk, 2.2e-05);
+  EXPECT_EQ(cfg.estimator.imu_rate_hz, 200.0);
+  EXPECT_NE(cfg.sources.at("cameras").find("camchain-imucam.yaml"), std::string::npos);
+  EXPECT_NE(cfg.sources.at("imu").find("imu.yaml"), std::string::npos);
+}
+
 TEST(Presets, EurocIsImuModeWithPublishedCalibration) {
   const SystemConfig cfg = resolve_config(kConfig / "euroc", io::DatasetCalibration{});
   ASSERT_TRUE(cfg.preset_mode.has_value());

@@ -33,8 +33,8 @@ struct FrontendParams {
   /// 0 = auto: found once per camera stream from sample images (vid::detect_bit_depth) and kept
   /// for the whole stream. 16-bit pixels are divided by 2^(bits - 8); 8-bit images ignore it.
   int image_bit_depth = 0;
-  Equalization equalization = Equalization::kNone;
-  double clahe_clip_limit = 2.0;
+  Equalization equalization = Equalization::kNone;  ///< contrast equalization before detection and tracking
+  double clahe_clip_limit = 2.0;  ///< CLAHE contrast limit (equalization: clahe)
   int clahe_tile = 8;           ///< CLAHE tiles per side
 
   // --- pyramidal Lucas-Kanade ---
@@ -60,9 +60,9 @@ struct FrontendParams {
   double template_max_shift_px = 2.0;  ///< drop if the alignment moves the KLT result further
 
   // --- temporal outlier rejection ---
-  RansacMode ransac = RansacMode::kFundamental;
+  RansacMode ransac = RansacMode::kFundamental;  ///< temporal outlier model (two_point: translation given the gyro rotation)
   double ransac_threshold_px = 1.0;  ///< epipolar error threshold (converted with the focal length)
-  double ransac_confidence = 0.99;
+  double ransac_confidence = 0.99;   ///< RANSAC success probability, in (0, 1)
   int ransac_max_iterations = 200;   ///< for the 2-point model
 
   // --- stereo ---

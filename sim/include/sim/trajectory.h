@@ -38,7 +38,7 @@ enum class YawMode { kFixed, kFollow, kRate };
 
 /// @brief Parameters of every trajectory type (unused fields are ignored by a type).
 struct TrajectoryConfig {
-  std::string type = "hover";  ///< hover, circle, lemniscate, zigzag, square, random, file
+  std::string type = "hover";  ///< hover, circle, lemniscate, zigzag, square, vertical_steps, random, file
   Eigen::Vector3d center{0.0, 0.0, 1.2};   ///< W [m]
   double radius_m = 1.0;                   ///< circle radius, lemniscate half-width, square half-side
   double height_amplitude_m = 0.0;         ///< circle/lemniscate vertical oscillation
@@ -53,6 +53,9 @@ struct TrajectoryConfig {
   double zigzag_length_m = 4.0;            ///< extent along x
   double zigzag_width_m = 1.5;             ///< extent along y
   int zigzag_legs = 6;
+  // vertical_steps: rest-to-rest climbs and descents over the centre, levels flown in turn
+  std::vector<double> step_heights_m;      ///< z of the levels [m] (W), cycled after the centre
+  double hold_s = 0.0;                     ///< rest at each level (and zigzag/square corner) [s]
   // random waypoints
   Eigen::Vector3d box_min{-2.0, -2.0, 0.8};
   Eigen::Vector3d box_max{2.0, 2.0, 2.0};

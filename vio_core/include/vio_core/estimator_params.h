@@ -42,7 +42,7 @@ InitMode init_mode_from_string(const std::string& s);
 /// @brief All estimator settings. Units SI; noise densities are continuous-time.
 struct EstimatorParams {
   // --- mode and window ---
-  PropagationMode mode = PropagationMode::kDynamics;
+  PropagationMode mode = PropagationMode::kDynamics;  ///< what drives the propagation (without the key: dynamics when rotor speeds or thrust exist)
   int window_size = 11;         ///< number of stochastic clones kept (max clones)
   bool use_fej = true;          ///< first-estimates Jacobians for observability consistency
   double gravity = 9.81;        ///< magnitude [m/s^2], g_W = [0, 0, -gravity]
@@ -74,7 +74,7 @@ struct EstimatorParams {
 
   // --- accelerometer update (dynamics mode) ---
   bool accel_update = true;              ///< update with every accelerometer sample
-  bool accel_chi2_gating = true;
+  bool accel_chi2_gating = true;         ///< gate each accelerometer sample at the 99% chi2(3) quantile
   double accel_chi2_multiplier = 1.0;    ///< multiplies the 99% chi2(3) threshold
   /// A sample past the gate is applied down-weighted (its innovation covariance scaled so its
   /// chi2 sits at the gate: influence bounded, nothing dropped) instead of rejected. With a
@@ -84,24 +84,24 @@ struct EstimatorParams {
   bool accel_gate_downweight = true;
   // Abrupt forces (vio_core/force_jump.h): GLR step test on the accelerometer innovations over
   // the last 2 .. force_jump_window samples; a detection re-estimates F from them.
-  bool force_jump_detection = true;
+  bool force_jump_detection = true;      ///< detect abrupt force changes and re-estimate F from the window
   double force_jump_threshold = 30.0;    ///< GLR statistic (chi2(3); P(> 30) ~ 1.4e-6 per test)
   double force_jump_split_sigma = 2.0;   ///< each half of the window carries the step at >= this [sigma]
   int force_jump_window = 64;            ///< longest window [samples] (160 ms at 400 Hz)
   // Flight phase (vio_core/flight_phase.h): landed while the estimated upward external force
   // (the ground reaction) carries at least this fraction of the weight, airborne below the
   // second one; a change must hold flight_phase_hold_s.
-  double landed_weight_fraction = 0.5;
-  double airborne_weight_fraction = 0.25;
+  double landed_weight_fraction = 0.5;   ///< landed once the upward external force carries this fraction of the weight
+  double airborne_weight_fraction = 0.25;  ///< airborne once it falls below this fraction (< landed_weight_fraction)
   double flight_phase_hold_s = 0.1;      ///< [s]
 
   // --- visual update ---
-  bool visual_update = true;
+  bool visual_update = true;             ///< MSCKF updates from the camera features (false: inertial/dynamics only)
   double pixel_noise_px = 1.0;           ///< observation noise [px] (divided by focal length)
   double chi2_multiplier = 1.0;          ///< multiplies the 95% chi2 threshold per feature
   int min_track_length = 3;              ///< observations needed to use a feature
   int max_features_per_update = 60;      ///< cap per camera frame (0 = no cap)
-  bool use_stereo = true;
+  bool use_stereo = true;                ///< use cam1 (stereo features) when the calibration has it
   /// Compress the stacked visual system through H^T H (block-structured, ~2.4x faster than
   /// the Householder QR of the stacked rows; both give the same EKF update).
   bool msckf_normal_equations = true;
@@ -142,7 +142,7 @@ struct EstimatorParams {
   double health_starvation_s = 1.0;
 
   // --- initialization ---
-  InitMode init_mode = InitMode::kStatic;
+  InitMode init_mode = InitMode::kStatic;  ///< static/hover window, or the first ground-truth sample (evaluation only)
   double init_window_s = 0.5;            ///< averaging window for static/hover init
   double init_accel_std_max = 0.3;       ///< accel std beyond the white noise above this -> moving
   double init_gyro_std_max = 0.05;       ///< gyro std beyond the white noise [rad/s]

@@ -1,0 +1,164 @@
+"""Thrust-coefficient fit: the estimator's own thrust model fitted to a flight log.
+
+The estimator (vio_core/thrust.h, docs/design.md §3) predicts the accelerometer as
+``a_m = [0, 0, T/m] + F_ext + b_a + n_a`` with ``T = sum_i k_i n_i^2`` (n in the rotor sensor's
+unit) and the thrust linearly interpolated from the rotor samples to the IMU times
+(vio_core/thrust_buffer.h). With no external force (hover and vertical steps in still air,
+away from the ground) the body-z accelerometer is therefore linear in the unknowns:
+
+    a_z(t) = sum_i (k_i / m) n_i(t)^2 + b_z + noise
+
+``per-rotor`` fits one k_i per rotor, ``collective`` one k shared by all rotors
+(``T = k sum_i n_i^2``). The mass is not fitted: the estimator divides by the mass of
+vehicle.yaml, so k is fitted for that mass (k/m is what the data determine).
+
+The least squares is numpy's ``lstsq`` (LAPACK gelsd, SVD based): it is stable on the
+near-collinear designs a vertical-only log gives for per-rotor coefficients, and the same
+SVD gives the parameter covariance; a hand-written normal-equations solver would square the
+condition number and need its own rank handling.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import List, Optional
+
+import numpy as np
+
+MODELS = ("collective", "per-rotor")
+BIAS_MODES = ("fit", "groundtruth", "none")
+
+#: Rotor samples further apart than this many median periods are a gap: IMU samples inside
+#: it are not used (the estimator holds the last thrust there; a fit must not).
+GAP_PERIODS = 5.0
+
+
+@dataclass
+class FitInput:
+    """Samples of one log, already at the IMU times (see :func:`regressors`)."""
+
+    t_ns: np.ndarray            # (N,) IMU times used
+    accel_z: np.ndarray         # (N,) body-z specific force [m/s^2], external force removed
+    speed_sq: np.ndarray        # (N, k) n_i^2 interpolated to the IMU times [unit^2]
+    bias_z: Optional[np.ndarray] = None  # (N,) known accelerometer bias (ground truth)
+
+
+@dataclass
+class ThrustFit:
+    """Result of :func:`fit_thrust`."""
+
+    model: str
+    coefficients: np.ndarray    # (k,) k_i [N/unit^2] (all equal for collective)
+    sigma: np.ndarray           # (k,) 1-sigma of each k_i from the residual scatter
+    bias_z: float               # fitted (or mean known) accelerometer bias [m/s^2]
+    residuals: np.ndarray       # (N,) a_z - prediction [m/s^2]
+    predicted: np.ndarray       # (N,) predicted T/m + b_z [m/s^2]
+    condition: float            # condition number of the (column-scaled) design
+    warnings: List[str] = field(default_factory=list)
+
+    @property
+    def rms(self) -> float:
+        """Residual RMS [m/s^2]."""
+        return float(np.sqrt(np.mean(self.residuals ** 2)))
+
+    @property
+    def relative_sigma(self) -> np.ndarray:
+        """1-sigma of each k_i relative to k_i."""
+        return self.sigma / np.abs(self.coefficients)
+
+
+def regressors(t_imu: np.ndarray, accel_z: np.ndarray, t_rotor: np.ndarray, speeds: np.ndarray,
+               min_thrust_fraction: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(keep, speed_sq)``: n_i^2 linearly interpolated to the IMU times (as the estimator
+    interpolates T, which is linear in n_i^2) and the mask of IMU samples usable for the fit:
+    inside the rotor stream, not inside a rotor gap, and with sum n_i^2 at least
+    ``min_thrust_fraction`` of its median (drops the ground, idle and spin-up parts, where the
+    ground carries the weight)."""
+    t0 = t_rotor[0]
+    tr = (t_rotor - t0).astype(float)
+    ti = (t_imu - t0).astype(float)
+    sq = speeds.astype(float) ** 2
+    speed_sq = np.stack([np.interp(ti, tr, sq[:, j]) for j in range(sq.shape[1])], axis=1)
+    keep = (ti >= tr[0]) & (ti <= tr[-1])
+    if len(tr) > 1:
+        period = float(np.median(np.diff(tr)))
+        right = np.clip(np.searchsorted(tr, ti, side="left"), 1, len(tr) - 1)
+        keep &= (tr[right] - tr[right - 1]) <= GAP_PERIODS * period
+    total = speed_sq.sum(axis=1)
+    if keep.any():
+        keep &= total >= min_thrust_fraction * float(np.median(total[keep]))
+    keep &= np.isfinite(accel_z)
+    return keep, speed_sq
+
+
+def fit_thrust(data: FitInput, mass_kg: float, model: str, bias: str) -> ThrustFit:
+    """Least-squares fit of the thrust coefficients (module docstring: model and solver).
+
+    Args:
+        data: the samples (at least 10 and more than the unknowns).
+        mass_kg: the mass the estimator will divide by (vehicle.yaml).
+        model: ``collective`` or ``per-rotor``.
+        bias: ``fit`` (a constant b_z is an unknown), ``groundtruth`` (``data.bias_z`` is
+            subtracted) or ``none`` (b_z = 0).
+    """
+    if model not in MODELS:
+        raise ValueError(f"unknown model '{model}' (choose from {', '.join(MODELS)})")
+    if bias not in BIAS_MODES:
+        raise ValueError(f"unknown bias mode '{bias}' (choose from {', '.join(BIAS_MODES)})")
+    y = np.asarray(data.accel_z, dtype=float).copy()
+    known_bias = 0.0
+    if bias == "groundtruth":
+        if data.bias_z is None:
+            raise ValueError("bias 'groundtruth' needs the ground-truth accelerometer bias")
+        y -= data.bias_z
+        known_bias = float(np.mean(data.bias_z))
+    n_rotors = data.speed_sq.shape[1]
+    cols = data.speed_sq / mass_kg if model == "per-rotor" else data.speed_sq.sum(axis=1, keepdims=True) / mass_kg
+    if bias == "fit":
+        cols = np.hstack([cols, np.ones((len(y), 1))])
+    n_params = cols.shape[1]
+    if len(y) < max(10, n_params + 1):
+        raise ValueError(f"too few samples for the fit ({len(y)}; need at least {max(10, n_params + 1)})")
+    # Scale the columns to unit RMS so that the condition number speaks of the data (collinear
+    # rotors), not of the units (rpm^2 ~ 1e7 next to the bias column of ones).
+    scale = np.sqrt(np.mean(cols ** 2, axis=0))
+    if np.any(scale == 0.0):
+        raise ValueError("a rotor's speed is zero over the whole window: nothing to fit")
+    A = cols / scale
+    sol, _, rank, sv = np.linalg.lstsq(A, y, rcond=None)
+    if rank < n_params:  # no unique solution: any numbers printed would be arbitrary
+        raise ValueError(f"the log cannot separate the {n_params} unknowns (design rank {rank}): the thrust "
+                         "must vary (hover and vertical steps), or the bias be given (--bias groundtruth or none)")
+    pred = A @ sol
+    res = y - pred
+    dof = max(len(y) - n_params, 1)
+    s2 = float(res @ res) / dof
+    # Covariance s^2 (A^T A)^-1 through the SVD (pinv), in the scaled parameters.
+    cov_scaled = s2 * np.linalg.pinv(A.T @ A)
+    params = sol / scale
+    sig = np.sqrt(np.clip(np.diag(cov_scaled), 0.0, None)) / scale
+    condition = float(sv[0] / sv[-1]) if sv[-1] > 0 else float("inf")
+    k_count = n_rotors if model == "per-rotor" else 1
+    k, k_sig = params[:k_count], sig[:k_count]
+    if model == "collective":
+        k, k_sig = np.repeat(k, n_rotors), np.repeat(k_sig, n_rotors)
+    b = float(params[-1]) if bias == "fit" else known_bias
+    warnings = []
+    worst = float(np.max(k_sig / np.abs(k)))
+    if model == "per-rotor" and worst > 0.01:
+        warnings.append(f"per-rotor coefficients are poorly determined (1-sigma up to {100 * worst:.1f} %): "
+                        "the log lacks differential thrust (yaw, roll and pitch accelerations); "
+                        "fit --model collective instead")
+    return ThrustFit(model, k, k_sig, b, res, pred + (known_bias if bias == "groundtruth" else 0.0),
+                     condition, warnings)
+
+
+def residuals_with(data: FitInput, mass_kg: float, coefficients: np.ndarray, bias: str) -> np.ndarray:
+    """Residuals of given coefficients (e.g. the vehicle.yaml in use) on the same samples,
+    with the bias handled as in the fit (``fit``: the mean residual is the bias)."""
+    pred = data.speed_sq @ np.asarray(coefficients, dtype=float) / mass_kg
+    res = np.asarray(data.accel_z, dtype=float) - pred
+    if bias == "groundtruth" and data.bias_z is not None:
+        res = res - data.bias_z
+    elif bias == "fit":
+        res = res - float(np.mean(res))
+    return res
