@@ -21,6 +21,7 @@ import numpy as np
 
 from ..errors import VidEvalError
 from ..usage import OneLineParser
+from .cli_errors import run_reporting_errors
 from . import dataset as ds
 from .thrust_fit import BIAS_MODES, MODELS, FitInput, fit_thrust, regressors, residuals_with
 
@@ -133,14 +134,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     _check_flags(parser, args)
-    try:
-        return run(args)
-    except VidEvalError as exc:
-        print(f"{PROG}: error: {exc}", file=sys.stderr)
-        return 1
-    except OSError as exc:
-        print(f"{PROG}: error: {exc.filename or ''}: {exc.strerror}", file=sys.stderr)
-        return 1
+    return run_reporting_errors(PROG, run, args)
 
 
 if __name__ == "__main__":
