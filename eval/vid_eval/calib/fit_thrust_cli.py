@@ -3,7 +3,9 @@
 Reads a dataset folder (docs/formats.md §1; a rosbag converted with vid-bag2asl is one):
 ``imu0`` (the body-z specific force), ``rotor0`` (speeds and their unit), ``vehicle.yaml``
 (the mass the estimator divides by), and when present the ground truth (accelerometer bias
-for ``--bias groundtruth``) and ``force0`` (an external force, subtracted). Prints the
+for ``--bias groundtruth``) and ``force0`` (an external force, subtracted); for per-rotor
+coefficients also ``--geometry`` (rotor layout and inertia: the gyroscope's torque balance
+separates the rotors, :mod:`vid_eval.calib.torque_rows`). Prints the
 coefficients with their 1-sigma and the residual RMS, writes a vehicle.yaml (``--out``) and a
 residual plot (``--plot``). The model and solver: :mod:`vid_eval.calib.thrust_fit`.
 
@@ -24,6 +26,7 @@ from ..usage import OneLineParser
 from .cli_errors import run_reporting_errors
 from . import dataset as ds
 from .thrust_fit import BIAS_MODES, MODELS, FitInput, fit_thrust, regressors, residuals_with
+from .torque_rows import WINDOW_S, load_geometry, torque_rows
 
 PROG = "vid-fit-thrust"
 
@@ -35,8 +38,12 @@ def build_parser() -> argparse.ArgumentParser:
                     "hover / vertical-step log: the estimator's model a_z = sum k_i n_i^2 / m + b_z.")
     p.add_argument("dataset", help="dataset folder (SEQ or SEQ/mav0) with imu0, rotor0 and vehicle.yaml")
     p.add_argument("--model", choices=MODELS, default="collective",
-                   help="one k for all rotors, or one per rotor (needs yaw/roll/pitch accelerations in "
-                        "the log; default: collective)")
+                   help="one k for all rotors, or one per rotor (needs --geometry, or roll/pitch/yaw "
+                        "accelerations in the log; default: collective)")
+    p.add_argument("--geometry", metavar="FILE.yaml",
+                   help="per-rotor: the vehicle's layout (x/plus), arm_length_m, rotor_directions, "
+                        "torque_to_thrust_m and inertia_diag, top level or under vehicle: (a vid_sim "
+                        "scenario is one); adds the gyroscope's torque balance to the fit")
     p.add_argument("--bias", choices=BIAS_MODES, default="fit",
                    help="accelerometer bias along z: fit a constant (default), take the ground truth's, or none")
     p.add_argument("--mass", type=float, metavar="KG", help="vehicle mass [kg] (default: vehicle.yaml mass_kg)")
@@ -60,6 +67,8 @@ def _check_flags(p: argparse.ArgumentParser, a: argparse.Namespace) -> None:
         p.error(f"--end: expected seconds after --start ({a.start:g}), got {a.end:g}")
     if not 0.0 <= a.min_thrust_fraction < 1.0:
         p.error(f"--min-thrust-fraction: expected a fraction in [0, 1), got {a.min_thrust_fraction:g}")
+    if a.geometry is not None and a.model != "per-rotor":
+        p.error("--geometry: only used with --model per-rotor")
     if a.plot is not None and not a.plot.lower().endswith(".png"):
         p.error(f"--plot: expected a .png file name, got '{a.plot}'")
 
@@ -95,8 +104,14 @@ def run(args: argparse.Namespace) -> int:
     if args.bias == "groundtruth" and gt is None:
         raise VidEvalError(f"{mav0}: --bias groundtruth needs state_groundtruth_estimate0/data.csv")
     data = FitInput(t_ns[keep], accel_z[keep], speed_sq[keep], bias_z)
+    torque = None
+    if args.geometry is not None:
+        geometry = load_geometry(Path(args.geometry), speed_sq.shape[1])
+        torque = torque_rows(t_ns, imu.gyro[window], speed_sq, keep, geometry)
+        if torque is None:
+            raise VidEvalError(f"{mav0}: no {1000 * WINDOW_S:g} ms window with thrust and rotor data for the torque rows")
     try:
-        fit = fit_thrust(data, mass, args.model, args.bias)
+        fit = fit_thrust(data, mass, args.model, args.bias, torque)
     except ValueError as exc:
         raise VidEvalError(f"{mav0}: {exc}") from None
 
@@ -104,13 +119,16 @@ def run(args: argparse.Namespace) -> int:
     print(f"{PROG}: {mav0.parent if mav0.name == 'mav0' else mav0}: {len(data.t_ns)} IMU samples "
           f"{span[0]:.2f}-{span[1]:.2f} s ({int(window.sum()) - len(data.t_ns)} dropped: low thrust or rotor gaps), "
           f"mass {mass:g} kg ({mass_src}), model {args.model}, bias {args.bias}"
-          + (", force0 subtracted" if force_z is not None else ""))
+          + (", force0 subtracted" if force_z is not None else "")
+          + (f", {fit.torque_windows} torque windows ({args.geometry})" if fit.torque_windows else ""))
     names = [f"k_{i + 1}" for i in range(len(fit.coefficients))] if args.model == "per-rotor" else ["k (every rotor)"]
     for name, k, s in zip(names, fit.coefficients, fit.sigma):
         print(f"  {name} = {k:.6e} N/({unit})^2  +- {s:.2e} ({100 * s / abs(k):.2f} %)")
     print(f"  accelerometer bias z = {fit.bias_z:+.4f} m/s^2"
           f"{' (fitted)' if args.bias == 'fit' else ' (ground truth, mean)' if args.bias == 'groundtruth' else ''}")
     print(f"  residual RMS {fit.rms:.4f} m/s^2 (design condition number {fit.condition:.3g})")
+    if fit.torque_rms is not None:
+        print("  torque-window residual RMS roll/pitch/yaw " + " / ".join(f"{v:.2e}" for v in fit.torque_rms) + " N m s")
     if veh is not None and len(veh.rotor_thrust_coefficients) == data.speed_sq.shape[1]:
         before = residuals_with(data, mass, np.array(veh.rotor_thrust_coefficients), args.bias)
         print(f"  residual RMS with vehicle.yaml's coefficients: {np.sqrt(np.mean(before ** 2)):.4f} m/s^2")

@@ -12,6 +12,18 @@ away from the ground) the body-z accelerometer is therefore linear in the unknow
 (``T = k sum_i n_i^2``). The mass is not fitted: the estimator divides by the mass of
 vehicle.yaml, so k is fitted for that mass (k/m is what the data determine).
 
+Per-rotor coefficients need differential thrust, which the accelerometer does not see; with the
+vehicle's geometry and inertia the gyroscope does (:mod:`vid_eval.calib.torque_rows`: the
+integrated Euler equation, linear in the k_i). The fit then stacks both kinds of rows, each
+block weighted by the inverse of its own residual RMS (feasible generalised least squares:
+start from the collective fit, re-estimate each block's noise, refit; three rounds). The
+torque rows then give the **ratios** between the k_i, the accelerometer alone their **scale**
+(with the bias, as in the collective fit): the torque windows carry some scale information too
+(where the body accelerates), but their regressors (integrated noisy rotor speeds) attenuate
+it, and with the bias free that was enough to pull every k_i 0.4-0.8 % low on the simulated
+logs; the hover torque balance, whose measured side is zero, fixes the ratios without that
+attenuation.
+
 The least squares is numpy's ``lstsq`` (LAPACK gelsd, SVD based): it is stable on the
 near-collinear designs a vertical-only log gives for per-rotor coefficients, and the same
 SVD gives the parameter covariance; a hand-written normal-equations solver would square the
@@ -23,6 +35,8 @@ from dataclasses import dataclass, field
 from typing import List, Optional
 
 import numpy as np
+
+from .torque_rows import TorqueRows
 
 MODELS = ("collective", "per-rotor")
 BIAS_MODES = ("fit", "groundtruth", "none")
@@ -54,6 +68,8 @@ class ThrustFit:
     predicted: np.ndarray       # (N,) predicted T/m + b_z [m/s^2]
     condition: float            # condition number of the (column-scaled) design
     warnings: List[str] = field(default_factory=list)
+    torque_rms: Optional[np.ndarray] = None  # (3,) roll/pitch/yaw window residual RMS [N m s]
+    torque_windows: int = 0     # windows of the Euler equation used (0: accelerometer only)
 
     @property
     def rms(self) -> float:
@@ -90,7 +106,8 @@ def regressors(t_imu: np.ndarray, accel_z: np.ndarray, t_rotor: np.ndarray, spee
     return keep, speed_sq
 
 
-def fit_thrust(data: FitInput, mass_kg: float, model: str, bias: str) -> ThrustFit:
+def fit_thrust(data: FitInput, mass_kg: float, model: str, bias: str,
+               torque: Optional[TorqueRows] = None) -> ThrustFit:
     """Least-squares fit of the thrust coefficients (module docstring: model and solver).
 
     Args:
@@ -99,6 +116,7 @@ def fit_thrust(data: FitInput, mass_kg: float, model: str, bias: str) -> ThrustF
         model: ``collective`` or ``per-rotor``.
         bias: ``fit`` (a constant b_z is an unknown), ``groundtruth`` (``data.bias_z`` is
             subtracted) or ``none`` (b_z = 0).
+        torque: rows of the rotational dynamics (per-rotor only; None: accelerometer only).
     """
     if model not in MODELS:
         raise ValueError(f"unknown model '{model}' (choose from {', '.join(MODELS)})")
@@ -118,24 +136,51 @@ def fit_thrust(data: FitInput, mass_kg: float, model: str, bias: str) -> ThrustF
     n_params = cols.shape[1]
     if len(y) < max(10, n_params + 1):
         raise ValueError(f"too few samples for the fit ({len(y)}; need at least {max(10, n_params + 1)})")
+    use_torque = model == "per-rotor" and torque is not None
+    if use_torque:
+        t_cols = torque.design()
+        if bias == "fit":
+            t_cols = np.hstack([t_cols, np.zeros((len(t_cols), 1))])
+        t_y = torque.target()
+        # Start from the collective solution (the accelerometer's scale, equal k_i) to get the
+        # first noise estimates of each block.
+        k0 = fit_thrust(data, mass_kg, "collective", bias).coefficients
+        sigmas = _block_rms(y - data.speed_sq @ k0 / mass_kg - (np.mean(y - data.speed_sq @ k0 / mass_kg)
+                                                              if bias == "fit" else 0.0),
+                            t_y - t_cols[:, :n_rotors] @ k0)
+        for _ in range(3):
+            w = _row_weights(len(y), len(t_y), sigmas)
+            A_all, y_all = np.vstack([cols, t_cols]) * w[:, None], np.concatenate([y, t_y]) * w
+            sol_all, _, _, _ = np.linalg.lstsq(A_all / np.sqrt(np.mean(A_all ** 2, axis=0)), y_all, rcond=None)
+            p_all = sol_all / np.sqrt(np.mean(A_all ** 2, axis=0))
+            sigmas = _block_rms(y - cols @ p_all, t_y - t_cols @ p_all)
+        w = _row_weights(len(y), len(t_y), sigmas)
+        A_raw, y_fit = np.vstack([cols, t_cols]) * w[:, None], np.concatenate([y, t_y]) * w
+    else:
+        A_raw, y_fit = cols, y
     # Scale the columns to unit RMS so that the condition number speaks of the data (collinear
     # rotors), not of the units (rpm^2 ~ 1e7 next to the bias column of ones).
-    scale = np.sqrt(np.mean(cols ** 2, axis=0))
+    scale = np.sqrt(np.mean(A_raw ** 2, axis=0))
     if np.any(scale == 0.0):
         raise ValueError("a rotor's speed is zero over the whole window: nothing to fit")
-    A = cols / scale
-    sol, _, rank, sv = np.linalg.lstsq(A, y, rcond=None)
+    A = A_raw / scale
+    sol, _, rank, sv = np.linalg.lstsq(A, y_fit, rcond=None)
     if rank < n_params:  # no unique solution: any numbers printed would be arbitrary
         raise ValueError(f"the log cannot separate the {n_params} unknowns (design rank {rank}): the thrust "
                          "must vary (hover and vertical steps), or the bias be given (--bias groundtruth or none)")
-    pred = A @ sol
-    res = y - pred
-    dof = max(len(y) - n_params, 1)
-    s2 = float(res @ res) / dof
-    # Covariance s^2 (A^T A)^-1 through the SVD (pinv), in the scaled parameters.
-    cov_scaled = s2 * np.linalg.pinv(A.T @ A)
     params = sol / scale
+    pred = cols @ params
+    res = y - pred
+    if use_torque:  # rows already whitened by their block's noise: (A^T A)^-1 is the covariance
+        cov_scaled = np.linalg.pinv(A.T @ A)
+    else:  # covariance s^2 (A^T A)^-1 through the SVD (pinv), in the scaled parameters
+        s2 = float(res @ res) / max(len(y) - n_params, 1)
+        cov_scaled = s2 * np.linalg.pinv(A.T @ A)
     sig = np.sqrt(np.clip(np.diag(cov_scaled), 0.0, None)) / scale
+    if use_torque:
+        params, sig, pred = _rescale_by_accelerometer(params, cov_scaled / np.outer(scale, scale), data, y,
+                                                      mass_kg, bias, n_rotors)
+        res = y - pred
     condition = float(sv[0] / sv[-1]) if sv[-1] > 0 else float("inf")
     k_count = n_rotors if model == "per-rotor" else 1
     k, k_sig = params[:k_count], sig[:k_count]
@@ -145,11 +190,59 @@ def fit_thrust(data: FitInput, mass_kg: float, model: str, bias: str) -> ThrustF
     warnings = []
     worst = float(np.max(k_sig / np.abs(k)))
     if model == "per-rotor" and worst > 0.01:
-        warnings.append(f"per-rotor coefficients are poorly determined (1-sigma up to {100 * worst:.1f} %): "
-                        "the log lacks differential thrust (yaw, roll and pitch accelerations); "
-                        "fit --model collective instead")
+        hint = ("the log lacks differential thrust (yaw, roll and pitch accelerations): give the vehicle's "
+                "geometry (--geometry) so that the gyroscope's torque balance separates the rotors, or fit "
+                "--model collective" if not use_torque else
+                "the geometry or inertia may not match the vehicle, or the log is too short")
+        warnings.append(f"per-rotor coefficients are poorly determined (1-sigma up to {100 * worst:.1f} %): {hint}")
+    torque_rms = None
+    if use_torque:
+        t_res = (torque.target() - torque.design() @ params[:n_rotors]).reshape(-1, 3)
+        torque_rms = np.sqrt(np.mean(t_res ** 2, axis=0))
     return ThrustFit(model, k, k_sig, b, res, pred + (known_bias if bias == "groundtruth" else 0.0),
-                     condition, warnings)
+                     condition, warnings, torque_rms, len(torque.lhs) if use_torque else 0)
+
+
+def _rescale_by_accelerometer(params: np.ndarray, cov: np.ndarray, data: FitInput, y: np.ndarray, mass_kg: float,
+                              bias: str, n_rotors: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Keep the ratios k_i / mean(k) of the joint fit, refit their common scale (and the bias)
+    on the accelerometer rows alone. Returns (params, 1-sigma, predicted a_z); the 1-sigma
+    combines the ratio's (from the joint covariance) and the scale's in quadrature."""
+    k = params[:n_rotors]
+    ratio = k / k.mean()
+    # d ratio / d k = (I - ratio 1^T / n) / mean(k)
+    jac = (np.eye(n_rotors) - np.outer(ratio, np.ones(n_rotors)) / n_rotors) / k.mean()
+    ratio_sig = np.sqrt(np.clip(np.diag(jac @ cov[:n_rotors, :n_rotors] @ jac.T), 0.0, None))
+    cols = (data.speed_sq @ ratio / mass_kg)[:, None]
+    if bias == "fit":
+        cols = np.hstack([cols, np.ones((len(y), 1))])
+    scale = np.sqrt(np.mean(cols ** 2, axis=0))  # unit columns: pinv must not drop the bias direction
+    sol, _, _, _ = np.linalg.lstsq(cols / scale, y, rcond=None)
+    pred = cols / scale @ sol
+    res = y - pred
+    cov_s = float(res @ res) / max(len(y) - cols.shape[1], 1) * np.linalg.pinv((cols / scale).T @ (cols / scale))
+    sol, cov_s = sol / scale, cov_s / np.outer(scale, scale)
+    alpha, alpha_sig = float(sol[0]), float(np.sqrt(max(cov_s[0, 0], 0.0)))
+    out = params.copy()
+    out[:n_rotors] = alpha * ratio
+    if bias == "fit":
+        out[-1] = float(sol[-1])
+    sig = np.sqrt(np.concatenate([(alpha * ratio_sig) ** 2 + (ratio * alpha_sig) ** 2,
+                                  [cov_s[-1, -1]] if bias == "fit" else []]))
+    return out, sig, pred
+
+
+def _block_rms(accel_res: np.ndarray, torque_res: np.ndarray) -> np.ndarray:
+    """(4,) residual RMS of the accelerometer rows and of each torque axis (floored: a block that
+    fits perfectly must not get an infinite weight)."""
+    axes = torque_res.reshape(-1, 3)
+    rms = np.concatenate([[np.sqrt(np.mean(accel_res ** 2))], np.sqrt(np.mean(axes ** 2, axis=0))])
+    return np.maximum(rms, 1e-12)
+
+
+def _row_weights(n_accel: int, n_torque: int, sigmas: np.ndarray) -> np.ndarray:
+    """Row weights 1/sigma: accelerometer rows first, then torque rows in roll/pitch/yaw order."""
+    return np.concatenate([np.full(n_accel, 1.0 / sigmas[0]), np.tile(1.0 / sigmas[1:], n_torque // 3)])
 
 
 def residuals_with(data: FitInput, mass_kg: float, coefficients: np.ndarray, bias: str) -> np.ndarray:
