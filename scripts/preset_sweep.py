@@ -88,7 +88,11 @@ COLUMNS = [("ate_m", "ATE [m]", "{:.4f}", max), ("force_rmse_world", "force RMSE
            ("att_err_max_deg", "max att. err [°]", "{:.2f}", max), ("lag_ms", "lag [ms]", "{:.0f}", max),
            ("settling_max_s", "settling max [s]", "{:.2f}", max),
            ("accel_rejected_fraction", "accel rejected", "{:.2%}", max),
-           ("accel_downweighted_fraction", "accel down-weighted", "{:.2%}", max), ("force_jumps", "jumps", "{:.0f}", max)]
+           ("accel_downweighted_fraction", "accel down-weighted", "{:.2%}", max), ("force_jumps", "jumps", "{:.0f}", max),
+           # vid_run --smooth (estimator smoother_lag_s > 0): the fixed-lag smoothed outputs
+           ("ate_m_smoothed", "smoothed ATE [m]", "{:.4f}", max),
+           ("force_rmse_world_smoothed", "smoothed force RMSE [m/s²]", "{:.3f}", max),
+           ("settling_max_s_smoothed", "smoothed settling max [s]", "{:.2f}", max)]
 
 
 def table(rows: list[dict], configs: list[str]) -> str:

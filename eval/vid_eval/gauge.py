@@ -56,9 +56,17 @@ class WorldGauge:
         return f"{self.alignment.mode}-aligned (yaw {self.alignment.yaw_deg:.1f} deg)"
 
 
+SMOOTHED_FORCE_NAME = "force_smoothed.csv"
+SMOOTHED_TRAJECTORY_NAME = "trajectory_smoothed_tum.txt"
+
+
 def find_estimate_trajectory(est_path: PathLike) -> Optional[Path]:
-    """``state.csv`` or ``trajectory_tum.txt`` in the folder of an estimate file, or None."""
+    """``state.csv`` or ``trajectory_tum.txt`` in the folder of an estimate file, or None;
+    for the fixed-lag smoothed ``force_smoothed.csv`` its own ``trajectory_smoothed_tum.txt``
+    (``vid_run --smooth``) when present."""
     folder = Path(est_path).resolve().parent
+    if Path(est_path).name == SMOOTHED_FORCE_NAME and (folder / SMOOTHED_TRAJECTORY_NAME).is_file():
+        return folder / SMOOTHED_TRAJECTORY_NAME
     for name in ESTIMATE_TRAJECTORY_NAMES:
         cand = folder / name
         if cand.is_file() and cand != Path(est_path).resolve():

@@ -87,7 +87,8 @@ def score_run(seq: pathlib.Path, run: pathlib.Path, skip_s: float) -> dict:
     """Scores of one vid_run output folder ``run`` against the sequence ``seq``'s truth.
 
     ATE [m] (posyaw), world-frame force RMSE (gauge-free), max attitude error after ``skip_s``
-    seconds [deg], force lag [ms] and step settling, accelerometer accounting (vid_run's summary).
+    seconds [deg], force lag [ms] and step settling, accelerometer accounting (vid_run's summary);
+    with ``vid_run --smooth`` outputs also the smoothed ATE, force RMSE and settling (``*_smoothed``).
     """
     mav0 = seq / "mav0"
     s = json.loads((run / "summary.json").read_text())
@@ -120,4 +121,14 @@ def score_run(seq: pathlib.Path, run: pathlib.Path, skip_s: float) -> dict:
         out["settling_median_s"] = summ["settling_median_s"]
         out["settling_max_s"] = summ["settling_max_s"]
         out["not_settled"] = summ["not_settled"]
+        smoothed = run / "force_smoothed.csv"
+        if smoothed.exists() and (run / "trajectory_smoothed_tum.txt").exists():
+            # vid_run --smooth: the fixed-lag smoothed force, aligned by its own trajectory.
+            out["ate_m_smoothed"] = s.get("ate_posyaw_m_smoothed")
+            out["force_rmse_world_smoothed"] = s.get("force_rmse_world_mps2_smoothed")
+            traj_s = load_trajectory(run / "trajectory_smoothed_tum.txt")
+            _, world_s = load_force_estimate(smoothed)
+            world_s = rotate_world(world_s, fit_world_gauge(traj_s, gt_traj, "posyaw"))
+            r_s = force_response(*pair_vectors(world_s, gt, PairingOptions()))
+            out["settling_max_s_smoothed"] = r_s.summary()["settling_max_s"]
     return out

@@ -44,6 +44,8 @@ const DoubleField kDoubles[] = {
     VID_FIELD(landed_weight_fraction),
     VID_FIELD(airborne_weight_fraction),
     VID_FIELD(flight_phase_hold_s),
+    VID_FIELD(smoother_lag_s),
+    VID_FIELD(smoother_clone_period_s),
     VID_FIELD(pixel_noise_px),
     VID_FIELD(chi2_multiplier),
     VID_FIELD(triangulation_max_condition),

@@ -94,12 +94,13 @@ void RunOutputs::write_estimate(const EstimateRow& r) {
   append3(r.F_ext_I);
   for (int i = 0; i < 18; ++i) row += fmt::format(",{:.6g}", r.sigma(i));
   state_.line(row);
-  if (write_force_) {
-    const Eigen::Vector3d f_W = q * r.F_ext_I;
-    force_.line(fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g}", r.t_ns, r.F_ext_I.x(),
-                            r.F_ext_I.y(), r.F_ext_I.z(), f_W.x(), f_W.y(), f_W.z(), r.sigma(15), r.sigma(16),
-                            r.sigma(17)));
-  }
+  if (write_force_) force_.line(force_csv_line(r));
+}
+
+std::string force_csv_line(const EstimateRow& r) {
+  const Eigen::Vector3d f_W = r.T_WI.q.normalized() * r.F_ext_I;
+  return fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.6g},{:.6g},{:.6g}", r.t_ns, r.F_ext_I.x(),
+                     r.F_ext_I.y(), r.F_ext_I.z(), f_W.x(), f_W.y(), f_W.z(), r.sigma(15), r.sigma(16), r.sigma(17));
 }
 
 void RunOutputs::write_timing(const TimingRow& t) {
@@ -112,6 +113,22 @@ void RunOutputs::close() {
   state_.close();
   force_.close();
   timing_.close();
+}
+
+SmoothedOutputs::SmoothedOutputs(const std::filesystem::path& out_dir)
+    : tum_(out_dir / "trajectory_smoothed_tum.txt"), force_(out_dir / "force_smoothed.csv") {
+  tum_.line("# timestamp tx ty tz qx qy qz qw");
+  force_.line(force_csv_header());
+}
+
+void SmoothedOutputs::write_estimate(const EstimateRow& r) {
+  tum_.line(tum_line({r.t_ns, r.T_WI}));
+  force_.line(force_csv_line(r));
+}
+
+void SmoothedOutputs::close() {
+  tum_.close();
+  force_.close();
 }
 
 }  // namespace vid::system

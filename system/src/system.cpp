@@ -66,6 +66,7 @@ System::System(SystemParams params) : p_(std::move(params)), cpu_start_s_(proces
     tracks_.emplace(*p_.out_dir / "tracks.csv");
     tracks_->line(tracks_csv_header());
   }
+  if (p_.out_dir && smoothing()) smoothed_outputs_.emplace(*p_.out_dir);
 }
 
 System::~System() = default;
@@ -78,6 +79,7 @@ void System::build_estimator() {
   pipeline_ = std::make_unique<Pipeline>(pcfg);
   pipeline_->set_estimate_callback([this](const EstimateOutput& e) { estimate_out(e); });
   pipeline_->set_frame_callback([this](const FrameTimings& ft) { frame_out(ft); });
+  pipeline_->set_smoothed_callback([this](const EstimateOutput& e) { smoothed_out(e); });
   if (p_.features != FeatureSource::kFeat0)
     frontend_ = std::make_unique<FrontendStage>(p_.config.frontend, p_.config.cameras);
   last_status_ = pipeline_->status();
@@ -250,6 +252,20 @@ void System::estimate_out(const EstimateOutput& e) {
   if (on_estimate_) on_estimate_(e);
 }
 
+void System::smoothed_out(const EstimateOutput& e) {
+  const EstimateRow row = to_row(e);
+  if (smoothed_outputs_) smoothed_outputs_->write_estimate(row);
+  if (!gt_p_.t_ns.empty() || !gt_f_W_.t_ns.empty()) {  // as estimate_out
+    est_p_smoothed_.t_ns.push_back(row.t_ns);
+    est_p_smoothed_.v.push_back(row.T_WI.p);
+    est_f_W_smoothed_.t_ns.push_back(row.t_ns);
+    est_f_W_smoothed_.v.push_back(e.F_ext_W);
+    est_f_I_smoothed_.t_ns.push_back(row.t_ns);
+    est_f_I_smoothed_.v.push_back(e.F_ext_I);
+  }
+  if (on_smoothed_) on_smoothed_(e);
+}
+
 void System::frame_out(const FrameTimings& ft) {
   const bool starving = pipeline_->starving();
   if (starving && !was_starving_ && ++starvation_warnings_ <= 10)
@@ -278,6 +294,7 @@ void System::close_outputs() {
   faults_.report_rest();
   if (outputs_) outputs_->close();
   if (tracks_) tracks_->close();
+  if (smoothed_outputs_) smoothed_outputs_->close();
 }
 
 FilterStatus System::status() const { return pipeline_->status(); }

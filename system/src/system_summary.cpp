@@ -98,6 +98,38 @@ PipelineCounters System::counters() const {
   return c;
 }
 
+void System::score(nlohmann::json& s, const Vec3Series& est_p, const Vec3Series& est_f_W, const Vec3Series& est_f_I,
+                   const std::string& sfx) const {
+  std::optional<AteResult> ate;
+  if (!gt_p_.t_ns.empty()) ate = ate_posyaw(est_p, gt_p_);
+  if (ate) {
+    s["ate_posyaw_m" + sfx] = ate->rmse_m;
+    s["ate_pairs" + sfx] = ate->pairs;
+  }
+  const auto& truth_vehicle = p_.truth_vehicle;
+  if (dynamics() && !gt_f_W_.t_ns.empty() && (!mass_t_.empty() || truth_vehicle)) {
+    Vec3Series gt_f = gt_f_W_;
+    for (std::size_t i = 0; i < gt_f.t_ns.size(); ++i) {
+      const double m = mass_t_.empty() ? truth_vehicle->mass_kg : mass_at(mass_t_, mass_kg_, gt_f.t_ns[i]);
+      gt_f.v[i] /= m;
+    }
+    // The estimator's world has its own heading (yaw is unobservable): the world-frame figure
+    // is taken after rotating the estimate by the ATE's alignment, never without one.
+    std::size_t pairs = 0;
+    if (!ate) {
+      s["force_rmse_world_note" + sfx] = "no ground-truth poses to align the estimator's world frame: world-frame force not scored";
+    } else if (auto rmse = force_rmse(rotate_about_z(est_f_W, ate->yaw_rad), gt_f, &pairs)) {
+      s["force_rmse_world_mps2" + sfx] = *rmse;
+      s["force_pairs" + sfx] = pairs;
+      s["force_alignment" + sfx] = {{"mode", "posyaw"}, {"yaw_deg", ate->yaw_rad * 180.0 / M_PI}};
+    }
+    if (!gt_R_WI_.empty()) {
+      if (auto rmse = force_rmse(est_f_I, world_to_body(gt_f, gt_p_.t_ns, gt_R_WI_)))
+        s["force_rmse_body_mps2" + sfx] = *rmse;
+    }
+  }
+}
+
 nlohmann::json System::summary() const {
   const SystemConfig& cfg = p_.config;
   nlohmann::json s;
@@ -152,35 +184,10 @@ nlohmann::json System::summary() const {
   s["config"] = describe(cfg);
   s["config_sources"] = cfg.sources;
 
-  // Metrics against ground truth, with the association and alignment of vid_eval.
-  std::optional<AteResult> ate;
-  if (!gt_p_.t_ns.empty()) ate = ate_posyaw(est_p_, gt_p_);
-  if (ate) {
-    s["ate_posyaw_m"] = ate->rmse_m;
-    s["ate_pairs"] = ate->pairs;
-  }
-  const auto& truth_vehicle = p_.truth_vehicle;
-  if (dynamics() && !gt_f_W_.t_ns.empty() && (!mass_t_.empty() || truth_vehicle)) {
-    Vec3Series gt_f = gt_f_W_;
-    for (std::size_t i = 0; i < gt_f.t_ns.size(); ++i) {
-      const double m = mass_t_.empty() ? truth_vehicle->mass_kg : mass_at(mass_t_, mass_kg_, gt_f.t_ns[i]);
-      gt_f.v[i] /= m;
-    }
-    // The estimator's world has its own heading (yaw is unobservable): the world-frame figure
-    // is taken after rotating the estimate by the ATE's alignment, never without one.
-    std::size_t pairs = 0;
-    if (!ate) {
-      s["force_rmse_world_note"] = "no ground-truth poses to align the estimator's world frame: world-frame force not scored";
-    } else if (auto rmse = force_rmse(rotate_about_z(est_f_W_, ate->yaw_rad), gt_f, &pairs)) {
-      s["force_rmse_world_mps2"] = *rmse;
-      s["force_pairs"] = pairs;
-      s["force_alignment"] = {{"mode", "posyaw"}, {"yaw_deg", ate->yaw_rad * 180.0 / M_PI}};
-    }
-    if (!gt_R_WI_.empty()) {
-      if (auto rmse = force_rmse(est_f_I_, world_to_body(gt_f, gt_p_.t_ns, gt_R_WI_)))
-        s["force_rmse_body_mps2"] = *rmse;
-    }
-  }
+  // Metrics against ground truth, with the association and alignment of vid_eval; with
+  // fixed-lag smoothing the same figures of the smoothed outputs, keys suffixed "_smoothed".
+  score(s, est_p_, est_f_W_, est_f_I_, "");
+  if (smoothing()) score(s, est_p_smoothed_, est_f_W_smoothed_, est_f_I_smoothed_, "_smoothed");
   return s;
 }
 

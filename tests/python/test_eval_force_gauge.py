@@ -13,7 +13,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from eval_testdata import (run_cli_in_process, smooth_trajectory, write_csv, write_euroc_gt,
-                           write_force_estimate, write_state)
+                           write_force_estimate, write_state, write_tum)
 from vid_eval.alignment import Alignment
 from vid_eval.gauge import WorldGauge, rotate_world
 from vid_eval.series import VectorSeries
@@ -136,3 +136,29 @@ def test_rotate_world_rotates_values_and_sigma():
     r = rotate_world(s, WorldGauge(Alignment(R=R, mode="posyaw"), "", "", 0))
     assert r.values == pytest.approx(np.array([[0.0, 1.0, 0], [-2.0, 0, 0]]), abs=1e-12)
     assert r.sigma[0] == pytest.approx([0.3, 0.1, 0.2], abs=1e-12)
+
+
+def test_smoothed_force_is_aligned_by_the_smoothed_trajectory(tmp_path):
+    """``vid_run --smooth`` writes force_smoothed.csv (force.csv's columns) next to
+    trajectory_smoothed_tum.txt: scoring it aligns with that trajectory, not the causal one."""
+    mav0, force = _case(tmp_path, 40.0, with_state=False)
+    run = force.parent
+    heading = 40.0
+    n = 2400
+    t_ns = 10**18 + np.arange(n, dtype=np.int64) * 5_000_000
+    ts = np.arange(n) * 0.005
+    p_gt, rot_gt = smooth_trajectory(ts, 3)
+    k = np.arange(10, n - 10, 2)
+    R_EG = Rotation.from_euler("z", -heading, degrees=True)
+    # The causal trajectory in a wrong heading (its alignment would rotate the force wrongly).
+    R_bad = Rotation.from_euler("z", 70.0, degrees=True)
+    write_tum(run / "trajectory_tum.txt", t_ns[k] * 1e-9, R_bad.apply(p_gt[k]), R_bad * rot_gt[k])
+    write_tum(run / "trajectory_smoothed_tum.txt", t_ns[k] * 1e-9, R_EG.apply(p_gt[k]) + [1.0, 2.0, 0.0],
+              R_EG * rot_gt[k])
+    smoothed = run / "force_smoothed.csv"
+    smoothed.write_text(force.read_text())
+    d, _ = _score(tmp_path, smoothed, mav0)
+    assert d["alignment"]["est_trajectory"].endswith("trajectory_smoothed_tum.txt")
+    assert d["force_rmse_world_mps2"] == pytest.approx(np.linalg.norm(C_WORLD), rel=1e-6)
+    d_causal, _ = _score(tmp_path, force, mav0)
+    assert d_causal["alignment"]["est_trajectory"].endswith("trajectory_tum.txt")

@@ -10,6 +10,7 @@
 #include "geometry/so3.h"
 #include "vio_core/chi2.h"
 #include "vio_core/ekf_update.h"
+#include "vio_core/fixed_lag.h"  // complete type for lagged_
 #include "vio_core/msckf/clone_poses.h"
 #include "vio_core/msckf/feature_database.h"
 #include "vio_core/msckf/visual_update.h"
@@ -50,6 +51,10 @@ Pipeline::Pipeline(PipelineConfig config)
     throw std::invalid_argument("dynamics mode needs vehicle mass_kg > 0");
   }
   if (config_.params.window_size < 2) throw std::invalid_argument("window_size must be >= 2");
+  if (config_.params.smoother_lag_s < 0.0 || config_.params.smoother_clone_period_s < 0.0)
+    throw std::invalid_argument("smoother_lag_s and smoother_clone_period_s must be >= 0");
+  if (config_.params.smoother_lag_s > 0.0 && config_.params.mode == PropagationMode::kDynamics)
+    lagged_ = std::make_unique<FixedLagOutput>(config_.params.force_frame);
   std::sort(config_.cameras.begin(), config_.cameras.end(),
             [](const CameraCalib& a, const CameraCalib& b) { return a.cam_id < b.cam_id; });
 }
@@ -80,6 +85,7 @@ void Pipeline::push(const Measurement& m) {
 
 void Pipeline::finish() {
   drain(true);
+  smoother_frame_end(false, true);
   // Samples still in the jump detector's window: no jump used a gated one.
   for (int i = jumps_.size() - 1; i >= 0; --i)
     if (jumps_.recent(i).gated) record_past_gate(jumps_.recent(i).t_ns);
@@ -190,6 +196,10 @@ void Pipeline::drain(bool force) {
 }
 
 void Pipeline::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu) {
+  if (lagged_) {  // a re-initialization: what the old state smoothed goes out first
+    smoother_frame_end(false, true);
+    lagged_ = std::make_unique<FixedLagOutput>(config_.params.force_frame);
+  }
   state_.initialize(t_ns, x, P_imu);
   jumps_.clear();
   phase_.reset();
@@ -309,6 +319,7 @@ void Pipeline::process_frame(const FeatureFrame& f) {
   tm.t_ns = f.t_ns;
 
   state_.augment_clone();
+  const bool force_cloned = smoother_frame_start();
   FeatureFrame usable;
   usable.t_ns = f.t_ns;
   usable.observations.reserve(f.observations.size());
@@ -377,9 +388,11 @@ void Pipeline::process_frame(const FeatureFrame& f) {
   const auto t_marg = Clock::now();
   if (window_full) {
     features_->remove_observations_at(state_.clones().front().t_ns);
+    if (lagged_) lagged_->pose_leaving(state_.clones().front().t_ns, state_.clones().front().T_WI);
     state_.marginalize_oldest_clone();
     parallax_.drop_before(state_.clones().front().t_ns);
   }
+  smoother_frame_end(force_cloned);
   tm.marginalization_ms = ms_since(t_marg);
   tm.clones = static_cast<int>(state_.clones().size());
   check_divergence(true);
@@ -443,7 +456,7 @@ void Pipeline::check_divergence(bool full) {
 }
 
 void Pipeline::emit(TimeNs t) {
-  if (!on_estimate_) return;
+  if (!on_estimate_ && !lagged_) return;
   EstimateOutput o;
   o.t_ns = t;
   o.x = state_.imu();
@@ -478,7 +491,8 @@ void Pipeline::emit(TimeNs t) {
     o.cov_F_W = frame == ForceFrame::kWorld ? P_F : P_other;
   }
   o.status = status_;
-  on_estimate_(o);
+  if (lagged_) lagged_->add_causal(o);
+  if (on_estimate_) on_estimate_(o);
 }
 
 }  // namespace vid

@@ -44,6 +44,7 @@ void FilterState::initialize(TimeNs t_ns, const ImuState& imu, const Eigen::Matr
   if (!with_force_rate_) imu_.F_dot.setZero();
   calib_.clear();
   clones_.clear();
+  force_clones_.clear();
   P_ = P_imu;
   reset_imu_fej();
 }
@@ -74,17 +75,51 @@ void FilterState::augment_clone() {
 void FilterState::marginalize_oldest_clone() {
   if (clones_.empty()) return;
   const int idx = clones_.front().cov_index;
+  clones_.pop_front();
+  remove_block(idx, 6);
+}
+
+void FilterState::augment_force_clone() {
+  if (!with_force_) throw std::logic_error("FilterState::augment_force_clone needs the F_ext state");
   const int n = dim();
-  const int tail = n - idx - 6;
-  Eigen::MatrixXd P_new(n - 6, n - 6);
+  // x_aug = [x; J x] with J selecting dF_ext: P_aug = [P, P J^T; J P, J P J^T] (README eq. S1).
+  Eigen::MatrixXd P_new(n + 3, n + 3);
+  P_new.topLeftCorner(n, n) = P_;
+  P_new.block(0, n, n, 3) = P_.middleCols(imu_idx::kF, 3);
+  P_new.block(n, 0, 3, n) = P_.middleRows(imu_idx::kF, 3);
+  P_new.block(n, n, 3, 3) = P_.block(imu_idx::kF, imu_idx::kF, 3, 3);
+  P_.swap(P_new);
+  ForceClone c;
+  c.t_ns = t_ns_;
+  c.F_ext = imu_.F_ext;
+  c.cov_index = n;
+  force_clones_.push_back(c);
+}
+
+void FilterState::marginalize_oldest_force_clone() {
+  if (force_clones_.empty()) return;
+  const int idx = force_clones_.front().cov_index;
+  force_clones_.pop_front();
+  remove_block(idx, 3);
+}
+
+void FilterState::remove_block(int idx, int k) {
+  const int n = dim();
+  const int tail = n - idx - k;
+  Eigen::MatrixXd P_new(n - k, n - k);
   P_new.topLeftCorner(idx, idx) = P_.topLeftCorner(idx, idx);
   P_new.topRightCorner(idx, tail) = P_.topRightCorner(idx, tail);
   P_new.bottomLeftCorner(tail, idx) = P_.bottomLeftCorner(tail, idx);
   P_new.bottomRightCorner(tail, tail) = P_.bottomRightCorner(tail, tail);
   P_.swap(P_new);
-  clones_.pop_front();
+  for (CalibPose& c : calib_) {
+    if (c.cov_index > idx) c.cov_index -= k;
+  }
   for (CloneState& c : clones_) {
-    if (c.cov_index > idx) c.cov_index -= 6;
+    if (c.cov_index > idx) c.cov_index -= k;
+  }
+  for (ForceClone& c : force_clones_) {
+    if (c.cov_index > idx) c.cov_index -= k;
   }
 }
 
@@ -110,6 +145,7 @@ int FilterState::add_calib_pose(const std::string& name, const Eigen::Quaternion
   cov.bottomRightCorner<3, 3>().diagonal().setConstant(sigma_pos * sigma_pos);
   insert_block(at, cov);
   for (CloneState& c : clones_) c.cov_index += 6;
+  for (ForceClone& c : force_clones_) c.cov_index += 6;
   CalibPose cp;
   cp.name = name;
   cp.T = {so3::normalized(q), p};
@@ -138,6 +174,7 @@ void FilterState::apply_correction(const Eigen::VectorXd& dx) {
     c.T_WI.q = so3::boxplus(c.T_WI.q, dx.segment<3>(c.cov_index));
     c.T_WI.p += dx.segment<3>(c.cov_index + 3);
   }
+  for (ForceClone& c : force_clones_) c.F_ext += dx.segment<3>(c.cov_index);
 }
 
 CovarianceHealth FilterState::check_and_symmetrize() {

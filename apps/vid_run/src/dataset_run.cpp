@@ -59,7 +59,9 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   so.features = source;
   so.context = opt.dataset.string();
   so.write_tracks = opt.write_tracks;
-  system::System session(system::make_system_params(so, reader.calibration()));
+  system::SystemParams sp = system::make_system_params(so, reader.calibration());
+  if (opt.smooth_lag_s) sp.config.estimator.smoother_lag_s = *opt.smooth_lag_s;
+  system::System session(std::move(sp));
   session.frame_faults().set_strict(opt.strict);
 
   // Decode-ahead: a reader thread and opt.decode_threads decoders fill a queue a few camera

@@ -33,6 +33,10 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"static", "groundtruth"}));
     app.add_option("--features", features, "images | feat0 | auto (default: images when cam0/data.csv exists)")
         ->check(CLI::IsMember({"auto", "images", "feat0"}));
+    app.add_option("--smooth", opt.smooth_lag_s,
+                   "fixed-lag smoothing with this lag [s] (dynamics mode): also writes force_smoothed.csv and "
+                   "trajectory_smoothed_tum.txt; the causal outputs stay as they are")
+        ->check(CLI::PositiveNumber);
     app.add_option("--start", opt.start_s, "start [s] after the first measurement");
     app.add_option("--end", opt.end_s, "end [s] after the first measurement (default: to the end)");
     app.add_option("--decode-threads", opt.decode_threads,

@@ -71,6 +71,21 @@ class RunOutputs {
   FlushedFile tum_, state_, force_, timing_;
 };
 
+/// @brief trajectory_smoothed_tum.txt and force_smoothed.csv (fixed-lag smoothed estimates,
+/// README "Fixed-lag smoothing of the force"): the formats of trajectory_tum.txt and force.csv.
+class SmoothedOutputs {
+ public:
+  explicit SmoothedOutputs(const std::filesystem::path& out_dir);
+  void write_estimate(const EstimateRow& row);
+  void close();
+
+ private:
+  FlushedFile tum_, force_;
+};
+
+/// @brief One line of force.csv (and force_smoothed.csv) for @p row.
+std::string force_csv_line(const EstimateRow& row);
+
 /// @brief Header line of state.csv (shared with the Python loader, vid_eval.formats).
 std::string state_csv_header();
 /// @brief Header line of force.csv.

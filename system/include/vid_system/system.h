@@ -88,6 +88,9 @@ class System {
   // --- Observers ------------------------------------------------------------------------------
   /// @brief Every estimate (state, covariance blocks, force), after it was written to the outputs.
   void on_estimate(std::function<void(const EstimateOutput&)> cb) { on_estimate_ = std::move(cb); }
+  /// @brief Every smoothed estimate (estimator smoother_lag_s > 0; Pipeline::set_smoothed_callback),
+  /// after force_smoothed.csv / trajectory_smoothed_tum.txt got its row.
+  void on_smoothed(std::function<void(const EstimateOutput&)> cb) { on_smoothed_ = std::move(cb); }
   /// @brief Every camera frame the pipeline processed, after timing.csv got its row.
   void on_frame(std::function<void(const FrameTimings&)> cb) { on_frame_ = std::move(cb); }
   /// @brief Every change of the filter status (initialized, diverged, ...), with its message.
@@ -107,6 +110,8 @@ class System {
   const SystemConfig& config() const { return p_.config; }
   /// @brief True in dynamics mode (force estimated).
   bool dynamics() const { return p_.config.estimator.mode == PropagationMode::kDynamics; }
+  /// @brief True with fixed-lag smoothing on (dynamics mode, estimator smoother_lag_s > 0).
+  bool smoothing() const { return dynamics() && p_.config.estimator.smoother_lag_s > 0.0; }
   int restarts() const { return restarts_; }
   /// @brief Camera frames pushed (also those skipped for a bad image).
   long camera_frames() const { return frames_; }
@@ -131,6 +136,10 @@ class System {
   void report_status();
   void track(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right);
   void estimate_out(const EstimateOutput& e);
+  void smoothed_out(const EstimateOutput& e);
+  /// ATE and force RMSE of one estimate series into summary @p s, keys suffixed @p sfx.
+  void score(nlohmann::json& s, const Vec3Series& est_p, const Vec3Series& est_f_W, const Vec3Series& est_f_I,
+             const std::string& sfx) const;
   void frame_out(const FrameTimings& ft);
 
   SystemParams p_;
@@ -140,10 +149,12 @@ class System {
   std::vector<std::unique_ptr<CameraModel>> models_;  ///< feat0 undistortion
   std::optional<RunOutputs> outputs_;
   std::optional<FlushedFile> tracks_;  ///< tracks.csv (SystemParams::write_tracks)
+  std::optional<SmoothedOutputs> smoothed_outputs_;  ///< with smoother_lag_s > 0
   FilterStatus last_status_ = FilterStatus::kWaitingForInit;
   StageTimes stage_times_;
   std::map<TimeNs, double> tracking_ms_;
   Vec3Series est_p_, est_f_W_, est_f_I_, gt_p_, gt_f_W_;
+  Vec3Series est_p_smoothed_, est_f_W_smoothed_, est_f_I_smoothed_;
   std::vector<Eigen::Matrix3d> gt_R_WI_;  ///< at gt_p_.t_ns, for the body-frame force figure
   std::vector<TimeNs> mass_t_;
   std::vector<double> mass_kg_;
@@ -158,6 +169,7 @@ class System {
   double cpu_start_s_ = 0.0;
   std::function<void(const EstimateOutput&)> on_estimate_;
   std::function<void(const FrameTimings&)> on_frame_;
+  std::function<void(const EstimateOutput&)> on_smoothed_;
   std::function<void(FilterStatus, const std::string&)> on_status_;
 };
 

@@ -95,6 +95,18 @@ struct EstimatorParams {
   double airborne_weight_fraction = 0.25;  ///< airborne once it falls below this fraction (< landed_weight_fraction)
   double flight_phase_hold_s = 0.1;      ///< [s]
 
+  // --- fixed-lag smoothing (dynamics mode; README "Fixed-lag smoothing of the force") ---
+  /// > 0: stochastic clones of F_ext are kept in the state for this lag [s] and corrected by
+  /// every later accelerometer and visual update through their cross-covariances (a Kalman
+  /// filter on the augmented state is the fixed-lag smoother of those times); the smoothed
+  /// estimate of a clone's time is output when it leaves the window. The causal estimate is
+  /// unchanged. 0 = off (the default).
+  double smoother_lag_s = 0.0;
+  /// A force clone is taken at the first camera frame at least this long [s] after the
+  /// previous one (memory and time grow with lag / period clones of 3 states); smoothed
+  /// outputs between clone times interpolate the clones' corrections.
+  double smoother_clone_period_s = 0.1;
+
   // --- visual update ---
   bool visual_update = true;             ///< MSCKF updates from the camera features (false: inertial/dynamics only)
   double pixel_noise_px = 1.0;           ///< observation noise [px] (divided by focal length)

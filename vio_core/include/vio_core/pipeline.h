@@ -37,6 +37,7 @@
 #include "vio_core/zero_velocity.h"
 
 namespace vid {
+class FixedLagOutput;
 namespace msckf {
 class FeatureDatabase;
 struct ClonePose;
@@ -149,6 +150,11 @@ class Pipeline {
 
   void set_estimate_callback(std::function<void(const EstimateOutput&)> cb) { on_estimate_ = std::move(cb); }
   void set_frame_callback(std::function<void(const FrameTimings&)> cb) { on_frame_ = std::move(cb); }
+  /// @brief With smoother_lag_s > 0 (dynamics mode): every IMU-rate estimate again, smoothed
+  /// (README "Fixed-lag smoothing of the force"), about smoother_lag_s + smoother_clone_period_s
+  /// after its time (the rest at finish()). Fields as the causal estimate's; x.F_ext, T_WI,
+  /// F_ext_I/W and cov_F_I/W carry the smoothed values.
+  void set_smoothed_callback(std::function<void(const EstimateOutput&)> cb) { on_smoothed_ = std::move(cb); }
 
   /// @brief Feed the next measurement (non-decreasing time). Ground truth, force, mass and
   /// image measurements are ignored (ground truth is used only by InitMode::kGroundTruth).
@@ -185,6 +191,10 @@ class Pipeline {
   void check_divergence(bool full);
   void check_health(TimeNs t, int used, int rejected_chi2, int untriangulated);  ///< health_monitor.h, per frame
   void emit(TimeNs t);
+  bool smoother_frame_start();  ///< take a force clone at this frame if one is due
+  /// Record the new clone's causal value (@p cloned), release the clones past the lag (all with
+  /// @p all) and emit the smoothed estimates they anchor.
+  void smoother_frame_end(bool cloned, bool all = false);
   void accel_step(const ImuInput& in);
   void record_rejected(TimeNs t);
   void record_downweighted(TimeNs t);
@@ -214,6 +224,8 @@ class Pipeline {
   HealthMonitor health_;
   std::function<void(const EstimateOutput&)> on_estimate_;
   std::function<void(const FrameTimings&)> on_frame_;
+  std::unique_ptr<FixedLagOutput> lagged_;  ///< smoothed outputs (smoother_lag_s > 0)
+  std::function<void(const EstimateOutput&)> on_smoothed_;
 };
 
 }  // namespace vid

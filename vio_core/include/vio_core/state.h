@@ -8,7 +8,8 @@
 /// [dtheta(3), dp_WI(3), dv_WI(3), db_g(3), db_a(3)] and, in dynamics mode, dF_ext(3) (in the
 /// state's force frame, EstimatorParams::force_frame), then optionally dF_ext/dt(3) in the same
 /// frame (EstimatorParams::force_rate_random_walk > 0).
-/// Calibration variables follow the IMU block; clones (oldest first) follow those.
+/// Calibration variables follow the IMU block; pose clones and force clones (each oldest
+/// first, interleaved in the order they were taken) follow those.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -69,6 +70,15 @@ struct CloneState {
   int cov_index = -1;  ///< column of [dtheta, dp] in P
 };
 
+/// @brief Stochastic clone of F_ext at a camera time (fixed-lag smoothing, README "Fixed-lag
+/// smoothing of the force"): later updates correct it through its cross-covariance, so while it
+/// is kept it is the smoothed estimate of the force at its time.
+struct ForceClone {
+  TimeNs t_ns = 0;
+  Eigen::Vector3d F_ext = Eigen::Vector3d::Zero();  ///< in the state's force frame [m/s^2]
+  int cov_index = -1;  ///< column of dF_ext in P
+};
+
 /// @brief A calibration pose (e.g. camera extrinsic T_IC) estimated in the filter.
 struct CalibPose {
   std::string name;  ///< names the frames, e.g. "T_IC0"
@@ -116,6 +126,7 @@ class FilterState {
 
   const std::deque<CloneState>& clones() const { return clones_; }
   const std::vector<CalibPose>& calib_poses() const { return calib_; }
+  const std::deque<ForceClone>& force_clones() const { return force_clones_; }
 
   Eigen::MatrixXd& P() { return P_; }
   const Eigen::MatrixXd& P() const { return P_; }
@@ -125,6 +136,12 @@ class FilterState {
   void augment_clone();
   /// @brief Remove the oldest clone (marginalize: drop its rows/cols). No-op without clones.
   void marginalize_oldest_clone();
+
+  /// @brief Add a clone of the current F_ext at the current time: P grows by 3 with the clone
+  /// fully correlated to F_ext (README eq. S1). Needs the force state (throws std::logic_error).
+  void augment_force_clone();
+  /// @brief Remove the oldest force clone (marginalize: drop its rows/cols). No-op without one.
+  void marginalize_oldest_force_clone();
 
   /// @brief Add a calibration pose variable right after the IMU block (indices of later
   /// variables shift). Returns its index in calib_poses().
@@ -140,6 +157,8 @@ class FilterState {
 
  private:
   void insert_block(int at, const Eigen::MatrixXd& cov);
+  /// Drop rows/cols [at, at + k) of P and shift the indices of every variable behind them.
+  void remove_block(int at, int k);
 
   bool with_force_;
   ForceFrame force_frame_;
@@ -149,6 +168,7 @@ class FilterState {
   ImuFej imu_fej_;
   std::vector<CalibPose> calib_;
   std::deque<CloneState> clones_;
+  std::deque<ForceClone> force_clones_;
   Eigen::MatrixXd P_;
 };
 

@@ -20,6 +20,9 @@ struct RunOptions {
   std::optional<std::filesystem::path> config;
   std::optional<PropagationMode> mode;   ///< default: dynamics when rotor0/thrust0 exist
   std::optional<InitMode> init;          ///< default: the config's init_mode
+  /// Fixed-lag smoothing with this lag [s] (estimator smoother_lag_s; default: the config's):
+  /// force_smoothed.csv and trajectory_smoothed_tum.txt next to the causal outputs.
+  std::optional<double> smooth_lag_s;
   system::FeatureSource features = system::FeatureSource::kAuto;
   double start_s = 0.0;                  ///< relative to the first measurement
   std::optional<double> end_s;           ///< none: to the end
