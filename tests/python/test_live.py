@@ -212,6 +212,64 @@ def test_live_publishes_state_force_and_status(seq, work, clean):
     assert named["imu.received"] == s["faults"]["imu.received"] and named["states_published"] == len(states)
 
 
+def _force_csv(path):
+    rows = [line.split(",") for line in path.read_text().splitlines() if line and not line.startswith("#")]
+    return np.array([int(r[0]) for r in rows]), np.array([[float(x) for x in r[1:]] for r in rows])
+
+
+def test_live_lag_publishes_the_smoothed_estimate(seq, work, clean):
+    """vid_live --lag 0.3 (issue #22): every estimate comes again, smoothed, on VID_STATE_LAGGED /
+    VID_FORCE_LAGGED; the causal channels are those of the run without --lag; the lagged force
+    is force_smoothed.csv's and that of vid_run --smooth 0.3 over the same data; --lag in IMU
+    mode is a usage error."""
+    import lcm
+    lcm_types()
+    from vid import force_t, state_t
+    log, _, clean_s = clean
+    out_log = work / "lagged.log"
+    s = live(seq, log, work / "live_lag", "--lag", "0.3", "--publish-url", f"file://{out_log}?mode=w")
+    counts = {"VID_STATE": 0, "VID_FORCE": 0, "VID_STATE_LAGGED": 0}
+    lagged_force = []
+    for ev in lcm.EventLog(str(out_log), "r"):
+        if ev.channel in counts:
+            counts[ev.channel] += 1
+        if ev.channel == "VID_STATE_LAGGED":
+            state_t.decode(ev.data)
+        elif ev.channel == "VID_FORCE_LAGGED":
+            lagged_force.append(force_t.decode(ev.data))
+    n = s["counts"]["estimates"]
+    assert counts["VID_STATE"] == counts["VID_FORCE"] == n == clean_s["counts"]["estimates"]
+    assert counts["VID_STATE_LAGGED"] == len(lagged_force) == n  # the last clones are released at the end
+    assert s["faults"]["lagged_states_published"] == n
+    # The causal outputs do not change with --lag (to rounding: the clones enlarge the matrices).
+    lag_rows, clean_rows = (np.array([[float(x) for x in r] for r in tum_rows(work / d / "trajectory_tum.txt")])
+                            for d in ("live_lag", "live_clean"))
+    assert lag_rows.shape == clean_rows.shape and np.array_equal(lag_rows[:, 0], clean_rows[:, 0])
+    assert np.max(np.abs(lag_rows[:, 1:] - clean_rows[:, 1:])) < 1e-7
+    t_lag, f_lag = _force_csv(work / "live_lag" / "force.csv")
+    t_clean, f_clean = _force_csv(work / "live_clean" / "force.csv")
+    assert np.array_equal(t_lag, t_clean) and np.max(np.abs(f_lag - f_clean)) < 1e-6
+    # The lagged messages are force_smoothed.csv's rows (printed to 6 significant digits there).
+    t_sm, f_sm = _force_csv(work / "live_lag" / "force_smoothed.csv")
+    assert np.array_equal(t_sm, [m.timestamp for m in lagged_force])
+    assert np.allclose(f_sm[:, 3:6], [m.f_world for m in lagged_force], rtol=1e-5, atol=1e-6)
+    assert np.allclose(f_sm[:, 6:9], [m.sigma_body for m in lagged_force], rtol=1e-5, atol=1e-9)
+    # Smoothing moved the estimate (else this test says nothing) and vid_run --smooth agrees.
+    _, f_causal = _force_csv(work / "live_lag" / "force.csv")
+    assert np.sqrt(np.mean((f_sm[:, 3:6] - f_causal[:, 3:6]) ** 2)) > 1e-3
+    assert np.all(f_sm[:, 6:9] <= f_causal[:, 6:9] * (1 + 1e-5))  # smoothed sigma never larger
+    r = vid_run(seq, work / "run_smooth", "--config", str(REPO / "config" / "sim"), "--end", str(END_S), "--smooth", "0.3")
+    assert r.returncode == 0, r.stderr
+    t_run, f_run = _force_csv(work / "run_smooth" / "force_smoothed.csv")
+    assert np.array_equal(t_run, t_sm)
+    assert np.sqrt(np.mean((f_run[:, 3:6] - f_sm[:, 3:6]) ** 2)) < 0.01  # live vs offline: < 1 % of the force error
+    bad = run([program("vid_live"), "--lcm-url", f"file://{log}?speed=0", "--sensors", seq, "--config",
+               REPO / "config" / "sim", "--mode", "imu", "--lag", "0.3"], timeout=60)
+    assert bad.returncode == 2 and len(bad.stderr.splitlines()) == 1 and "--lag" in bad.stderr, bad.stderr
+    bad = vid_run(seq, work / "run_smooth_imu", "--mode", "imu", "--end", str(END_S), "--smooth", "0.3")
+    assert bad.returncode == 2 and len(bad.stderr.splitlines()) == 1 and "--smooth" in bad.stderr, bad.stderr
+
+
 def test_cli_errors_are_one_line(tmp_path):
     cases = [
         [program("vid_replay"), "--dataset", tmp_path / "missing", "--lcm-url", "memq://", "--fast"],

@@ -26,9 +26,12 @@ LiveEngine::LiveEngine(LiveOptions options, lcm::LCM* publisher)
     rotor_count_ = opt_.calibration.rotor->count;
     rotor_unit_ = opt_.calibration.rotor->unit;
   }
-  session_ = std::make_unique<system::System>(system::make_system_params(opt_.session, opt_.calibration));
+  system::SystemParams sp = system::make_system_params(opt_.session, opt_.calibration);
+  if (opt_.lag_s > 0.0) sp.config.estimator.smoother_lag_s = opt_.lag_s;
+  session_ = std::make_unique<system::System>(std::move(sp));
   tracked_cameras_ = session_->tracked_cameras();
   session_->on_estimate([this](const EstimateOutput& e) { publish_estimate(*session_, e); });
+  session_->on_smoothed([this](const EstimateOutput& e) { publish_lagged(*session_, e); });
   session_->on_frame([this](const FrameTimings& ft) {
     auto it = frame_arrival_.find(ft.t_ns);
     if (it != frame_arrival_.end()) processed_arrivals_.push_back(it->second);
@@ -266,43 +269,60 @@ Health LiveEngine::health_locked() const {
   return stalled_ || session_->starving() ? Health::kDegraded : Health::kTracking;  // cameras quiet or no feature usable
 }
 
-void LiveEngine::publish_estimate(const system::System& s, const EstimateOutput& e) {
-  // Worker thread, inside session_->push(); the mutex is not held.
+namespace {
+
+/// @brief state_t of one estimate (cov_diag: the error state's variances, then the body force's).
+state_t state_message(const EstimateOutput& e, Health health, int reinit_count) {
   state_t st;
   st.timestamp = e.t_ns;
   const Eigen::Quaterniond q = e.x.T_WI.q.normalized();
-  const Eigen::Vector3d& f_W = e.F_ext_W;
-  const Eigen::Vector3d& f_I = e.F_ext_I;
   const Eigen::Vector3d sigma_F = e.cov_F_I.diagonal().cwiseMax(0.0).cwiseSqrt();  // body, as force.csv
   for (int i = 0; i < 3; ++i) {
     st.p[i] = e.x.T_WI.p[i];
     st.v[i] = e.x.v_WI[i];
     st.b_g[i] = e.x.b_g[i];
     st.b_a[i] = e.x.b_a[i];
-    st.f_ext_body[i] = f_I[i];
-    st.f_ext_world[i] = f_W[i];
+    st.f_ext_body[i] = e.F_ext_I[i];
+    st.f_ext_world[i] = e.F_ext_W[i];
   }
   st.q[0] = q.w(), st.q[1] = q.x(), st.q[2] = q.y(), st.q[3] = q.z();
   for (int i = 0; i < 15; ++i) st.cov_diag[i] = i < e.sigma.size() ? e.sigma[i] * e.sigma[i] : 0.0;
   for (int i = 0; i < 3; ++i) st.cov_diag[15 + i] = sigma_F[i] * sigma_F[i];  // body frame, as force.csv
+  st.status = static_cast<int8_t>(health);
+  st.reinit_count = reinit_count;
+  return st;
+}
+
+/// @brief force_t of one estimate (dynamics mode).
+force_t force_message(const system::System& s, const EstimateOutput& e) {
+  force_t f;
+  f.timestamp = e.t_ns;
+  f.mass_kg = s.config().vehicle ? s.config().vehicle->mass_kg : 0.0;
+  const Eigen::Vector3d sigma_F = e.cov_F_I.diagonal().cwiseMax(0.0).cwiseSqrt();
+  for (int i = 0; i < 3; ++i) {
+    f.f_body[i] = e.F_ext_I[i];
+    f.f_world[i] = e.F_ext_W[i];
+    f.sigma_body[i] = sigma_F[i];
+    f.f_world_newton[i] = e.F_ext_W[i] * f.mass_kg;
+  }
+  return f;
+}
+
+}  // namespace
+
+void LiveEngine::publish_estimate(const system::System& s, const EstimateOutput& e) {
+  // Worker thread, inside session_->push(); the mutex is not held.
+  Health health;
   int reinit = 0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    st.status = static_cast<int8_t>(health_);
+    health = health_;
     reinit = reinit_count_;
   }
-  st.reinit_count = reinit;
+  const state_t st = state_message(e, health, reinit);
   if (pub_) pub_->publish(opt_.channels.state, &st);
   if (pub_ && s.dynamics()) {
-    force_t f;
-    f.timestamp = e.t_ns;
-    f.mass_kg = s.config().vehicle ? s.config().vehicle->mass_kg : 0.0;
-    for (int i = 0; i < 3; ++i) {
-      f.f_body[i] = f_I[i];
-      f.f_world[i] = f_W[i];
-      f.sigma_body[i] = sigma_F[i];
-      f.f_world_newton[i] = f_W[i] * f.mass_kg;
-    }
+    const force_t f = force_message(s, e);
     pub_->publish(opt_.channels.force, &f);
   }
   const auto now = SteadyClock::now();
@@ -310,6 +330,26 @@ void LiveEngine::publish_estimate(const system::System& s, const EstimateOutput&
   ++published_;
   for (const auto& arrival : processed_arrivals_) latency_ms_.add(ms_between(arrival, now));
   processed_arrivals_.clear();
+}
+
+void LiveEngine::publish_lagged(const system::System& s, const EstimateOutput& e) {
+  // Worker thread (or finish(), which releases the last clones). The health is today's, not
+  // that of the estimate's time: a lagged state says how the filter is doing now.
+  Health health;
+  int reinit = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    health = health_;
+    reinit = reinit_count_;
+  }
+  const state_t st = state_message(e, health, reinit);
+  const force_t f = force_message(s, e);
+  if (pub_) {
+    pub_->publish(opt_.channels.state_lagged, &st);
+    pub_->publish(opt_.channels.force_lagged, &f);
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++published_lagged_;
 }
 
 std::vector<std::pair<std::string, std::int64_t>> LiveEngine::counters() const {
@@ -330,6 +370,7 @@ std::vector<std::pair<std::string, std::int64_t>> LiveEngine::counters() const {
   out.emplace_back("camera_stalls", camera_stalls_);
   out.emplace_back("reinit_count", reinit_count_);
   out.emplace_back("states_published", published_);
+  if (session_->smoothing()) out.emplace_back("lagged_states_published", published_lagged_);
   return out;
 }
 

@@ -33,14 +33,14 @@ int main(int argc, char** argv) {
     app.add_option("--lcm-url", url, "LCM URL to read sensors from (memq://, udpm://..., file://LOG?speed=1)")
         ->required();
     app.add_option("--publish-url", publish_url,
-                   "LCM URL to publish VID_STATE/VID_FORCE/VID_STATUS on (default: --lcm-url; for a file:// input: "
+                   "LCM URL to publish VID_STATE/VID_FORCE/VID_STATUS (and *_LAGGED) on (default: --lcm-url; for a file:// input: "
                    "none; file://OUT.log?mode=w writes an event log)");
     app.add_option("--sensors", sensors,
                    "sensor files laid out as a dataset folder (camN/sensor.yaml, imu0/, rotor0/, vehicle.yaml), "
                    "e.g. the replayed dataset");
     app.add_option("--config", config, "preset folder or its estimator.yaml (as vid_run --config)");
     app.add_option("--channels", channels, "YAML file of channel names (keys imu, cam0, cam1, rotors, thrust, "
-                                           "state, force, status)");
+                                           "state, force, status, state_lagged, force_lagged)");
     app.add_option("--out", out, "write vid_run's output files (trajectory_tum.txt, state.csv, ..., summary.json)");
     app.add_option("--mode", mode, "imu | dynamics (default: dynamics when a rotor sensor is configured)")
         ->check(CLI::IsMember({"imu", "dynamics"}));
@@ -65,6 +65,11 @@ int main(int argc, char** argv) {
                    "is a dataset folder) to this Rerun .rrd file with `vid-eval view` (implies --tracks); live: "
                    "run `vid-eval view --lcm URL --spawn` beside it")
         ->needs("--out");
+    double lag_s = 0.0;
+    app.add_option("--lag", lag_s,
+                   "also publish the fixed-lag smoothed state and force of this lag [s] on VID_STATE_LAGGED / "
+                   "VID_FORCE_LAGGED (dynamics mode; with --out also force_smoothed.csv, trajectory_smoothed_tum.txt)")
+        ->check(CLI::PositiveNumber);
     app.add_flag("--quiet", quiet, "warnings only");
     if (const auto code = vid::app::parse_cli(app, argc, argv)) return *code;
     if (quiet) spdlog::set_level(spdlog::level::warn);
@@ -91,6 +96,7 @@ int main(int argc, char** argv) {
     opt.block_when_full = overload == "block" || (overload == "auto" && vid::live::is_fast_log_url(url));
     opt.stall_s = stall_s;
     opt.source_url = url;
+    opt.lag_s = lag_s;
     if (opt.session.out_dir) std::filesystem::create_directories(*opt.session.out_dir);
 
     lcm::LCM input(url);
@@ -109,6 +115,9 @@ int main(int argc, char** argv) {
     }
 
     vid::live::LiveEngine engine(opt, publisher);
+    if (lag_s > 0.0 && !engine.dynamics())
+      throw vid::app::UsageError("--lag: smoothing estimates the force, which needs dynamics mode (rotor speeds or "
+                                 "--thrust; not --mode imu)");
     engine.subscribe(input);
     engine.start();
     std::signal(SIGINT, on_signal);

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "app/cli.h"
 #include "app/data_window.h"
 #include "app/image_depth.h"
 #include "app/prefetch.h"
@@ -62,6 +63,9 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   system::SystemParams sp = system::make_system_params(so, reader.calibration());
   if (opt.smooth_lag_s) sp.config.estimator.smoother_lag_s = *opt.smooth_lag_s;
   system::System session(std::move(sp));
+  if (opt.smooth_lag_s && !session.dynamics())
+    throw UsageError("--smooth: smoothing estimates the force, which needs dynamics mode (rotor0/ or thrust0/; "
+                     "not --mode imu)");
   session.frame_faults().set_strict(opt.strict);
 
   // Decode-ahead: a reader thread and opt.decode_threads decoders fill a queue a few camera

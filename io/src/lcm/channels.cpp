@@ -10,7 +10,7 @@ namespace vid::lcm_io {
 namespace {
 
 /// @brief One (key, member) table drives parse and print, so the two cannot drift apart.
-constexpr std::array<std::pair<const char*, std::string ChannelNames::*>, 8> kKeys = {{
+constexpr std::array<std::pair<const char*, std::string ChannelNames::*>, 10> kKeys = {{
     {"imu", &ChannelNames::imu},
     {"cam0", &ChannelNames::cam0},
     {"cam1", &ChannelNames::cam1},
@@ -19,6 +19,8 @@ constexpr std::array<std::pair<const char*, std::string ChannelNames::*>, 8> kKe
     {"state", &ChannelNames::state},
     {"force", &ChannelNames::force},
     {"status", &ChannelNames::status},
+    {"state_lagged", &ChannelNames::state_lagged},
+    {"force_lagged", &ChannelNames::force_lagged},
 }};
 
 }  // namespace

@@ -39,6 +39,7 @@ struct LiveOptions {
   bool block_when_full = false;            ///< true: the LCM thread waits instead of dropping (logs)
   double stall_s = 0.5;                    ///< no camera frame for this long (data time) = stall
   std::string source_url;                  ///< recorded in the summary
+  double lag_s = 0.0;                      ///< > 0: fixed-lag smoothing, published on the *_LAGGED channels
 };
 
 /// @brief Health of the estimator as published.
@@ -57,6 +58,8 @@ class LiveEngine {
   /// @brief Start the worker thread (messages received before are queued, frames bounded as
   /// usual). finish() starts it too.
   void start();
+  /// @brief True when the estimator runs in dynamics mode (the force is estimated).
+  bool dynamics() const { return session_->dynamics(); }
   /// @brief Channels to subscribe to (IMU, cameras tracked, rotors or thrust).
   std::vector<std::string> input_channels() const;
   /// @brief Subscribe the engine to its input channels on @p lcm.
@@ -88,6 +91,8 @@ class LiveEngine {
   void worker_loop();
   void process(WorkItem& w);
   void publish_estimate(const system::System& s, const EstimateOutput& e);
+  /// @brief A fixed-lag smoothed estimate (LiveOptions::lag_s) on the *_LAGGED channels.
+  void publish_lagged(const system::System& s, const EstimateOutput& e);
   void publish_status_locked(TimeNs t);
   std::vector<std::pair<std::string, std::int64_t>> counters() const;  // under mutex_
   Health health_locked() const;
@@ -117,6 +122,7 @@ class LiveEngine {
   Health health_ = Health::kInitializing;
   int reinit_count_ = 0;
   long published_ = 0;
+  long published_lagged_ = 0;
   bool stalled_ = false;
   std::optional<TimeNs> first_t_, last_t_, last_frame_t_, last_status_t_;
   std::map<TimeNs, SteadyClock::time_point> frame_arrival_;     ///< frames pushed, not yet processed

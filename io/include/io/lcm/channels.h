@@ -12,7 +12,7 @@ class YamlMap;
 namespace vid::lcm_io {
 
 /// @brief Channel names. The YAML file has any of the keys imu, cam0, cam1, rotors, thrust,
-/// state, force, status (unknown keys are errors).
+/// state, force, status, state_lagged, force_lagged (unknown keys are errors).
 struct ChannelNames {
   std::string imu = "IMU";
   std::string cam0 = "CAM0";
@@ -22,6 +22,8 @@ struct ChannelNames {
   std::string state = "VID_STATE";
   std::string force = "VID_FORCE";
   std::string status = "VID_STATUS";
+  std::string state_lagged = "VID_STATE_LAGGED";  ///< vid_live --lag: the fixed-lag smoothed state
+  std::string force_lagged = "VID_FORCE_LAGGED";  ///< ... and force
 
   bool operator==(const ChannelNames&) const = default;
 };
