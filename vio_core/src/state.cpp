@@ -54,16 +54,19 @@ void FilterState::reset_imu_fej() {
   imu_fej_.v_WI = imu_.v_WI;
 }
 
-void FilterState::augment_clone() {
+int FilterState::append_copy_of(int first, int k) {
   const int n = dim();
-  // New rows/cols are copies of the IMU pose rows/cols (J = selection of dtheta, dp).
-  Eigen::MatrixXd P_new(n + 6, n + 6);
+  Eigen::MatrixXd P_new(n + k, n + k);
   P_new.topLeftCorner(n, n) = P_;
-  P_new.block(0, n, n, 6) = P_.middleCols(imu_idx::kTheta, 6);
-  P_new.block(n, 0, 6, n) = P_.middleRows(imu_idx::kTheta, 6);
-  P_new.block(n, n, 6, 6) = P_.block(imu_idx::kTheta, imu_idx::kTheta, 6, 6);
+  P_new.block(0, n, n, k) = P_.middleCols(first, k);
+  P_new.block(n, 0, k, n) = P_.middleRows(first, k);
+  P_new.block(n, n, k, k) = P_.block(first, first, k, k);
   P_.swap(P_new);
+  return n;
+}
 
+void FilterState::augment_clone() {
+  const int n = append_copy_of(imu_idx::kTheta, 6);  // J selects dtheta, dp
   CloneState c;
   c.t_ns = t_ns_;
   c.T_WI = imu_.T_WI;
@@ -81,14 +84,7 @@ void FilterState::marginalize_oldest_clone() {
 
 void FilterState::augment_force_clone() {
   if (!with_force_) throw std::logic_error("FilterState::augment_force_clone needs the F_ext state");
-  const int n = dim();
-  // x_aug = [x; J x] with J selecting dF_ext: P_aug = [P, P J^T; J P, J P J^T] (README eq. S1).
-  Eigen::MatrixXd P_new(n + 3, n + 3);
-  P_new.topLeftCorner(n, n) = P_;
-  P_new.block(0, n, n, 3) = P_.middleCols(imu_idx::kF, 3);
-  P_new.block(n, 0, 3, n) = P_.middleRows(imu_idx::kF, 3);
-  P_new.block(n, n, 3, 3) = P_.block(imu_idx::kF, imu_idx::kF, 3, 3);
-  P_.swap(P_new);
+  const int n = append_copy_of(imu_idx::kF, 3);  // x_aug = [x; J x], J selects dF_ext (README eq. S1)
   ForceClone c;
   c.t_ns = t_ns_;
   c.F_ext = imu_.F_ext;

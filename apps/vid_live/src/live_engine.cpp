@@ -310,16 +310,14 @@ force_t force_message(const system::System& s, const EstimateOutput& e) {
 
 }  // namespace
 
+state_t LiveEngine::state_now(const EstimateOutput& e) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return state_message(e, health_, reinit_count_);
+}
+
 void LiveEngine::publish_estimate(const system::System& s, const EstimateOutput& e) {
   // Worker thread, inside session_->push(); the mutex is not held.
-  Health health;
-  int reinit = 0;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    health = health_;
-    reinit = reinit_count_;
-  }
-  const state_t st = state_message(e, health, reinit);
+  const state_t st = state_now(e);
   if (pub_) pub_->publish(opt_.channels.state, &st);
   if (pub_ && s.dynamics()) {
     const force_t f = force_message(s, e);
@@ -335,14 +333,7 @@ void LiveEngine::publish_estimate(const system::System& s, const EstimateOutput&
 void LiveEngine::publish_lagged(const system::System& s, const EstimateOutput& e) {
   // Worker thread (or finish(), which releases the last clones). The health is today's, not
   // that of the estimate's time: a lagged state says how the filter is doing now.
-  Health health;
-  int reinit = 0;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    health = health_;
-    reinit = reinit_count_;
-  }
-  const state_t st = state_message(e, health, reinit);
+  const state_t st = state_now(e);
   const force_t f = force_message(s, e);
   if (pub_) {
     pub_->publish(opt_.channels.state_lagged, &st);

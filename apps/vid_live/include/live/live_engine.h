@@ -91,6 +91,8 @@ class LiveEngine {
   void worker_loop();
   void process(WorkItem& w);
   void publish_estimate(const system::System& s, const EstimateOutput& e);
+  /// @brief state_t of @p e with the health and re-initialization count of now (locks the mutex).
+  state_t state_now(const EstimateOutput& e);
   /// @brief A fixed-lag smoothed estimate (LiveOptions::lag_s) on the *_LAGGED channels.
   void publish_lagged(const system::System& s, const EstimateOutput& e);
   void publish_status_locked(TimeNs t);
