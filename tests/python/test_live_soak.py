@@ -1,7 +1,8 @@
 """vid-soak (#26): the looped replay with injected faults into vid_live, short and through an
 event log (deterministic; the hour at real time over udpm is a measurement, apps/vid_live/README.md).
 Three passes of the rendered take-off / landing hop: three lift-offs, every injected fault
-counted exactly, memory flat after the first pass, the hop still tracked on the last pass."""
+counted exactly, memory flat after the first pass, the hop still tracked on the last pass; with
+fixed-lag smoothing on (vid_live --lag 0.3, #22) through the landings and re-initializations."""
 from __future__ import annotations
 
 import json
@@ -22,7 +23,7 @@ def soak(tmp_path, *extra):
 
 
 def test_looped_replay_with_faults_is_counted_exactly_and_memory_stays_flat(tmp_path):
-    r, out = soak(tmp_path, "--loops", "3", "--warmup-s", "3")
+    r, out = soak(tmp_path, "--loops", "3", "--warmup-s", "3", "--lag", "0.3")
     res = json.loads((out / "soak.json").read_text())
     assert r.returncode == 0, r.stdout + r.stderr
     assert res["ok"] and res["vid_live_rc"] == 0 and res["vid_replay_rc"] == 0
@@ -39,6 +40,8 @@ def test_looped_replay_with_faults_is_counted_exactly_and_memory_stays_flat(tmp_
     assert res["lift_offs"] == 3 and res["health"] == "tracking"
     assert len(res["rss_samples"]) >= 5 and res["rss"]["growth"] <= 0.05
     assert res["ate_posyaw"]["last_pass_m"] < 0.05
+    assert res["lag_s"] == 0.3 and summary["faults"]["lagged_states_published"] > 0.9 * summary["counts"]["estimates"]
+    assert (out / "live" / "force_smoothed.csv").stat().st_size > 0
 
 
 def test_a_miscounted_fault_fails_the_soak(tmp_path):

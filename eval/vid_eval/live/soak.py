@@ -146,6 +146,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "the disk writeback stalls of a busy machine out of the hour")
     p.add_argument("--fault-seed", type=int, default=1)
     p.add_argument("--no-faults", action="store_true", help="replay without injected faults")
+    p.add_argument("--lag", type=float, default=None, metavar="S",
+                   help="run vid_live with --lag S (fixed-lag smoothing on: its memory is in the soak too)")
     return p
 
 
@@ -156,6 +158,9 @@ def main(argv: Optional[List[str]] = None) -> int:
         return 2
     if args.minutes <= 0 or args.sample_s <= 0:
         print("vid-soak: error: --minutes and --sample-s must be > 0", file=sys.stderr)
+        return 2
+    if args.lag is not None and not args.lag > 0:
+        print(f"vid-soak: error: --lag must be > 0 s, got {args.lag:g}", file=sys.stderr)
         return 2
     bins = {n: args.build_dir / "bin" / n for n in ("vid_replay", "vid_live")}
     for n, b in bins.items():
@@ -179,7 +184,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     replay_cmd = [str(bins["vid_replay"]), "--dataset", str(args.dataset), "--loop", str(loops),
                   "--report", str(report_path), "--quiet", *faults]
     live_cmd = [str(bins["vid_live"]), "--sensors", str(args.dataset), "--config", str(args.config),
-                "--out", str(live_out), "--quiet"]
+                "--out", str(live_out), "--quiet", *(["--lag", f"{args.lag:g}"] if args.lag else [])]
     log_path = out / "soak.log"
     print(f"[soak] {loops} passes of {span_ns * 1e-9:.3f} s ({loops * span_ns / 60e9:.1f} min of data) "
           f"over {args.transport}", flush=True)
@@ -227,7 +232,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     result = {"transport": args.transport, "loops": loops, "pass_s": span_ns * 1e-9,
               "wall_s": time.monotonic() - t0, "vid_live_rc": live_rc, "vid_replay_rc": replay_rc,
               "rss_samples": samples, "vid_live_peak_rss_kb": usage.ru_maxrss,
-              "rss": _growth(samples, warmup_s), "live_out": str(live_out)}
+              "rss": _growth(samples, warmup_s), "live_out": str(live_out), "lag_s": args.lag}
     udp_drops_after = _udp_rcvbuf_errors()
     if args.transport == "udpm" and udp_drops_before is not None and udp_drops_after is not None:
         # every UDP socket of the machine: an upper bound of what vid_live's socket lost
