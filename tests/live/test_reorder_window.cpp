@@ -69,9 +69,36 @@ TEST(ReorderWindow, MessagesOlderThanTheReleasePointAreLate) {
   EXPECT_EQ(w.pop_ready().size(), 1u);  // 10 ms released
   EXPECT_FALSE(w.insert(imu(8 * kMs)));  // behind what was processed
   EXPECT_EQ(w.counters(Stream::kImu).late, 1);
-  // Another stream has its own release point: a camera image at 12 ms is still in time.
+  // A camera image at 12 ms is still in time (after the released 10 ms), one at 10 ms too (the
+  // IMU comes first at equal times), one at 9 ms is behind the released IMU: late.
   EXPECT_TRUE(w.insert(cam(12 * kMs, 0)));
-  EXPECT_EQ(w.counters(Stream::kCam0).reordered, 1);
+  EXPECT_TRUE(w.insert(cam(10 * kMs, 0)));
+  EXPECT_EQ(w.counters(Stream::kCam0).reordered, 2);
+  EXPECT_FALSE(w.insert(cam(9 * kMs, 0)));
+  EXPECT_EQ(w.counters(Stream::kCam0).late, 1);
+}
+
+TEST(ReorderWindow, ImageSentLateBeforeACameraStallIsLate) {
+  // The soak's case: the last image before a camera stall is sent 100 ms late while the IMU
+  // keeps flowing. No later image exists, but the IMU past it was released: it is late, and
+  // what is released stays in time order.
+  ReorderWindow w(30 * kMs);
+  std::vector<LiveItem> released;
+  auto take = [&] {
+    for (auto& it : w.pop_ready()) released.push_back(std::move(it));
+  };
+  for (TimeNs t = 0; t <= 200 * kMs; t += 5 * kMs) {
+    EXPECT_TRUE(w.insert(imu(t)));
+    if (t == 50 * kMs) EXPECT_TRUE(w.insert(cam(t, 0)));  // the image before the stall, 67 on is held back
+    if (t == 165 * kMs) EXPECT_FALSE(w.insert(cam(67 * kMs, 0)));  // arrives ~100 ms late
+    take();
+  }
+  for (auto& it : w.flush()) released.push_back(std::move(it));
+  EXPECT_EQ(w.counters(Stream::kCam0).late, 1);
+  EXPECT_EQ(w.counters(Stream::kCam0).reordered, 0);
+  for (std::size_t i = 1; i < released.size(); ++i)
+    EXPECT_LE(std::make_tuple(released[i - 1].t_ns, static_cast<int>(released[i - 1].stream)),
+              std::make_tuple(released[i].t_ns, static_cast<int>(released[i].stream)));
 }
 
 TEST(ReorderWindow, GapsCountMissingMessagesFromTheLearntPeriod) {

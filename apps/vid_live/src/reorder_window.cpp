@@ -25,8 +25,10 @@ bool ReorderWindow::insert(LiveItem item) {
     ++c.duplicate;
     return false;
   }
-  if (any_released_[s] && item.t_ns <= released_[s]) {
-    ++c.late;  // its place in the stream has been processed already
+  if (last_released_ && key <= *last_released_) {
+    // Its place in time has been processed already (by any stream: e.g. the last image before
+    // a camera stall, sent late, is behind the IMU that kept flowing).
+    ++c.late;
     return false;
   }
   ++c.received;
@@ -47,6 +49,7 @@ void ReorderWindow::on_release(const LiveItem& item) {
   }
   released_[s] = item.t_ns;
   any_released_[s] = true;
+  last_released_ = Key{item.t_ns, s};
   recent_[s].insert(item.t_ns);
   while (recent_[s].size() > 64) recent_[s].erase(recent_[s].begin());
 }

@@ -2,13 +2,15 @@
 /// @file reorder_window.h
 /// @brief Puts live messages back into timestamp order. A message is held until the newest
 /// timestamp seen on any stream is `window` past it, then released in (time, stream) order.
-/// Duplicates and messages older than the release point are dropped; messages that arrive
-/// after a later one are accepted (reordered); gaps in a stream are counted as missing
-/// messages (the period of each stream is learnt from its smallest interval).
+/// Duplicates and messages at or before the release point (the last released (time, stream)
+/// of any stream) are dropped as late, so the estimator always gets its input in time order;
+/// messages that arrive after a later one are accepted (reordered); gaps in a stream are
+/// counted as missing messages (the period of each stream is learnt from its smallest interval).
 
 #include <array>
 #include <deque>
 #include <map>
+#include <optional>
 #include <set>
 #include <tuple>
 #include <vector>
@@ -46,6 +48,7 @@ class ReorderWindow {
   std::array<StreamCounters, kNumStreams> counters_{};
   std::array<TimeNs, kNumStreams> released_{};     ///< last released time per stream
   std::array<bool, kNumStreams> any_released_{};
+  std::optional<Key> last_released_;               ///< release point over all streams
   std::array<TimeNs, kNumStreams> period_{};       ///< smallest interval seen (0: unknown)
   std::array<std::set<TimeNs>, kNumStreams> recent_;  ///< recently released times (duplicate check)
 };
