@@ -89,8 +89,12 @@ TEST(ReorderWindow, ImageSentLateBeforeACameraStallIsLate) {
   };
   for (TimeNs t = 0; t <= 200 * kMs; t += 5 * kMs) {
     EXPECT_TRUE(w.insert(imu(t)));
-    if (t == 50 * kMs) EXPECT_TRUE(w.insert(cam(t, 0)));  // the image before the stall, 67 on is held back
-    if (t == 165 * kMs) EXPECT_FALSE(w.insert(cam(67 * kMs, 0)));  // arrives ~100 ms late
+    if (t == 50 * kMs) {
+      EXPECT_TRUE(w.insert(cam(t, 0)));  // the image before the stall; 67 ms is held back
+    }
+    if (t == 165 * kMs) {
+      EXPECT_FALSE(w.insert(cam(67 * kMs, 0)));  // arrives ~100 ms late
+    }
     take();
   }
   for (auto& it : w.flush()) released.push_back(std::move(it));
