@@ -2,11 +2,11 @@
 /// @brief EKF updates exploiting measurement-Jacobian column sparsity.
 #include "vio_core/ekf_update.h"
 
-#include <Eigen/Cholesky>
 #include <cmath>
 #include <stdexcept>
 
 #include "geometry/so3.h"
+#include "vio_core/kalman.h"
 
 namespace vid {
 
@@ -30,18 +30,15 @@ UpdateResult ekf_update_columns(FilterState& state, const std::vector<int>& cols
     HPHt = H_cols * PHt_rows;
   }
   const Eigen::MatrixXd S = 0.5 * (HPHt + HPHt.transpose()) + R;
-  Eigen::LLT<Eigen::MatrixXd> llt(S);
-  if (llt.info() != Eigen::Success) return res;
-  res.chi2 = r.dot(llt.solve(r));
+  InnovationFactor<Eigen::Dynamic> f;
+  if (!f.compute(S, r)) return res;
+  res.chi2 = f.chi2();
   res.threshold = chi2_threshold;
-  if (chi2_threshold > 0.0 && !(res.chi2 <= chi2_threshold)) return res;
-  // With S = L L^T and W = PHt L^-T: K r = W (L^-1 r) and K S K^T = W W^T, so one
-  // triangular solve and a symmetric rank-m update of the lower triangle (half a product),
-  // mirrored to the upper one: P stays exactly symmetric.
-  const Eigen::MatrixXd W = llt.matrixL().solve(PHt.transpose()).transpose();
-  state.apply_correction(W * llt.matrixL().solve(r));
-  P.selfadjointView<Eigen::Lower>().rankUpdate(W, -1.0);
-  P.triangularView<Eigen::StrictlyUpper>() = P.transpose();
+  if (f.past_gate(chi2_threshold)) return res;
+  Eigen::MatrixXd W;
+  f.whitened_gain(PHt, &W);
+  state.apply_correction(W * f.whitened_innovation());
+  subtract_outer(P, W);
   res.applied = true;
   return res;
 }
@@ -105,11 +102,11 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   S = 0.5 * (S + S.transpose()).eval();
   S.diagonal().array() += noise_var;
   const Eigen::Vector3d r = a_m - predict_accel(state.imu(), T_m, state.force_frame());
-  Eigen::LLT<Eigen::Matrix3d> llt(S);
-  if (llt.info() != Eigen::Success) return res;
-  res.chi2 = r.dot(llt.solve(r));
+  InnovationFactor<3> f;
+  if (!f.compute(S, r)) return res;
+  res.chi2 = f.chi2();
   res.threshold = chi2_threshold;
-  const bool gated = chi2_threshold > 0.0 && !(res.chi2 <= chi2_threshold);
+  const bool gated = f.past_gate(chi2_threshold);
   if (info != nullptr) {
     const bool world = state.force_frame() == ForceFrame::kWorld;
     const Eigen::Matrix3d R = world ? state.imu().T_WI.q.toRotationMatrix() : Eigen::Matrix3d::Identity();
@@ -124,29 +121,16 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   if (gated && !downweight) return res;
   if (gated) {
     // Scale the innovation covariance so that this sample's chi2 sits at the threshold.
-    const double k = res.chi2 / chi2_threshold;
-    S *= k;
-    llt.compute(S);
+    f.inflate(res.chi2 / chi2_threshold);
     res.downweighted = true;
   }
-  // With S = L L^T and W = PHt L^-T: K r = W (L^-1 r), K S K^T = W W^T (rank-3, symmetric).
-  thread_local Eigen::MatrixXd W;
+  thread_local Eigen::Matrix<double, Eigen::Dynamic, 3> W;
   thread_local Eigen::VectorXd dx;
-  W = llt.matrixL().solve(PHt.transpose()).transpose();
-  const Eigen::Vector3d Linv_r = llt.matrixL().solve(r);
-  dx.noalias() = W * Linv_r;
+  f.whitened_gain(PHt, &W);
+  dx.noalias() = W * f.whitened_innovation();
   state.apply_correction(dx);
   if (info != nullptr) info->dx_imu.head(state.imu_dim()) = dx.head(state.imu_dim());
-  // P -= W W^T one contiguous column at a time: a single fused, vectorized pass per column
-  // (no product-kernel call per column, no cache-unfriendly mirror pass of a triangular
-  // update); P stays symmetric to round-off.
-  const int n = static_cast<int>(P.rows());
-  const auto w0 = W.col(0);
-  const auto w1 = W.col(1);
-  const auto w2 = W.col(2);
-  for (int j = 0; j < n; ++j) {
-    P.col(j) -= w0 * W(j, 0) + w1 * W(j, 1) + w2 * W(j, 2);
-  }
+  subtract_outer(P, W);  // rank 3: one fused pass per column of P
   res.applied = true;
   return res;
 }

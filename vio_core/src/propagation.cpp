@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "geometry/so3.h"
+#include "vio_core/covariance.h"
 
 namespace vid {
 namespace {
@@ -193,18 +194,8 @@ void propagate(FilterState& state, const ImuInterval& u, const EstimatorParams& 
                         state.with_force_rate());
   const Eigen::VectorXd q = discrete_noise_variances(params, u.dt, noise_scale, thrust_noise_scale);
 
-  Eigen::MatrixXd& P = state.P();
-  const int d = state.imu_dim();
-  const int n = state.dim();
   // IMU block and its cross-covariances with everything else (clones, calibration).
-  Eigen::MatrixXd P_ii = Phi * P.topLeftCorner(d, d) * Phi.transpose();
-  P_ii.noalias() += G * q.asDiagonal() * G.transpose();
-  P.topLeftCorner(d, d) = 0.5 * (P_ii + P_ii.transpose());
-  if (n > d) {
-    const Eigen::MatrixXd P_ir = Phi * P.topRightCorner(d, n - d);
-    P.topRightCorner(d, n - d) = P_ir;
-    P.bottomLeftCorner(n - d, d) = P_ir.transpose();
-  }
+  covariance::propagate_leading(state.P(), state.dim(), Phi, G * q.asDiagonal() * G.transpose());
   state.imu() = x_k1;
   state.imu().T_WI.q = so3::normalized(x_k1.T_WI.q);
   // The freshly propagated value is the first estimate at the new time.

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "geometry/so3.h"
+#include "vio_core/covariance.h"
 
 namespace vid {
 
@@ -54,19 +55,8 @@ void FilterState::reset_imu_fej() {
   imu_fej_.v_WI = imu_.v_WI;
 }
 
-int FilterState::append_copy_of(int first, int k) {
-  const int n = dim();
-  Eigen::MatrixXd P_new(n + k, n + k);
-  P_new.topLeftCorner(n, n) = P_;
-  P_new.block(0, n, n, k) = P_.middleCols(first, k);
-  P_new.block(n, 0, k, n) = P_.middleRows(first, k);
-  P_new.block(n, n, k, k) = P_.block(first, first, k, k);
-  P_.swap(P_new);
-  return n;
-}
-
 void FilterState::augment_clone() {
-  const int n = append_copy_of(imu_idx::kTheta, 6);  // J selects dtheta, dp
+  const int n = covariance::append_clone(P_, imu_idx::kTheta, 6);  // J selects dtheta, dp
   CloneState c;
   c.t_ns = t_ns_;
   c.T_WI = imu_.T_WI;
@@ -84,7 +74,7 @@ void FilterState::marginalize_oldest_clone() {
 
 void FilterState::augment_force_clone() {
   if (!with_force_) throw std::logic_error("FilterState::augment_force_clone needs the F_ext state");
-  const int n = append_copy_of(imu_idx::kF, 3);  // x_aug = [x; J x], J selects dF_ext (README eq. S1)
+  const int n = covariance::append_clone(P_, imu_idx::kF, 3);  // x_aug = [x; J x], J selects dF_ext (README eq. S1)
   ForceClone c;
   c.t_ns = t_ns_;
   c.F_ext = imu_.F_ext;
@@ -100,14 +90,7 @@ void FilterState::marginalize_oldest_force_clone() {
 }
 
 void FilterState::remove_block(int idx, int k) {
-  const int n = dim();
-  const int tail = n - idx - k;
-  Eigen::MatrixXd P_new(n - k, n - k);
-  P_new.topLeftCorner(idx, idx) = P_.topLeftCorner(idx, idx);
-  P_new.topRightCorner(idx, tail) = P_.topRightCorner(idx, tail);
-  P_new.bottomLeftCorner(tail, idx) = P_.bottomLeftCorner(tail, idx);
-  P_new.bottomRightCorner(tail, tail) = P_.bottomRightCorner(tail, tail);
-  P_.swap(P_new);
+  covariance::remove(P_, idx, k);
   for (CalibPose& c : calib_) {
     if (c.cov_index > idx) c.cov_index -= k;
   }
@@ -119,19 +102,6 @@ void FilterState::remove_block(int idx, int k) {
   }
 }
 
-void FilterState::insert_block(int at, const Eigen::MatrixXd& cov) {
-  const int n = dim();
-  const int k = static_cast<int>(cov.rows());
-  const int tail = n - at;
-  Eigen::MatrixXd P_new = Eigen::MatrixXd::Zero(n + k, n + k);
-  P_new.topLeftCorner(at, at) = P_.topLeftCorner(at, at);
-  P_new.topRightCorner(at, tail) = P_.topRightCorner(at, tail);
-  P_new.bottomLeftCorner(tail, at) = P_.bottomLeftCorner(tail, at);
-  P_new.bottomRightCorner(tail, tail) = P_.bottomRightCorner(tail, tail);
-  P_new.block(at, at, k, k) = cov;
-  P_.swap(P_new);
-}
-
 int FilterState::add_calib_pose(const std::string& name, const Eigen::Quaterniond& q,
                                 const Eigen::Vector3d& p, double sigma_rot, double sigma_pos) {
   int at = imu_dim();
@@ -139,7 +109,7 @@ int FilterState::add_calib_pose(const std::string& name, const Eigen::Quaternion
   Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(6, 6);
   cov.topLeftCorner<3, 3>().diagonal().setConstant(sigma_rot * sigma_rot);
   cov.bottomRightCorner<3, 3>().diagonal().setConstant(sigma_pos * sigma_pos);
-  insert_block(at, cov);
+  covariance::insert(P_, at, cov);
   for (CloneState& c : clones_) c.cov_index += 6;
   for (ForceClone& c : force_clones_) c.cov_index += 6;
   CalibPose cp;

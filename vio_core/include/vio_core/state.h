@@ -156,12 +156,9 @@ class FilterState {
   CovarianceHealth check_and_symmetrize();
 
  private:
-  void insert_block(int at, const Eigen::MatrixXd& cov);
-  /// Drop rows/cols [at, at + k) of P and shift the indices of every variable behind them.
+  /// Drop rows/cols [at, at + k) of P (covariance::remove) and shift the indices of every
+  /// variable behind them.
   void remove_block(int at, int k);
-  /// Stochastic cloning of error states [first, first + k): P_aug = [P, P J^T; J P, J P J^T]
-  /// with J selecting them (README eq. S1); returns the clone's index (the old dimension).
-  int append_copy_of(int first, int k);
 
   bool with_force_;
   ForceFrame force_frame_;

@@ -2,8 +2,10 @@
 /// @brief Window MSCKF of the mass study (seed eqs. 9-14).
 #include "massid/filters/msckf.h"
 
-#include <Eigen/Cholesky>
 #include <stdexcept>
+
+#include "vio_core/covariance.h"
+#include "vio_core/kalman.h"
 
 namespace vid::massid {
 
@@ -25,23 +27,13 @@ void WindowMsckf::init(const QuadMassState& x0, const Model::StateMat& P0) {
 void WindowMsckf::predict(const QuadMassInput& u, double dt, const Model::StateMat& Q) {
   const Model::StateMat F = model_.state_jacobian(x_, u, dt);
   x_ = model_.propagate(x_, u, dt);
-  const int nc = kCloneDim * clone_count();
-  Model::StateMat Pxx = F * P_.topLeftCorner<10, 10>() * F.transpose() + Q;
-  P_.topLeftCorner<10, 10>() = Pxx;
-  if (nc > 0) {
-    // Clones are static: only the current-state rows (and mirrored columns) change.
-    Eigen::MatrixXd Pxc = F * P_.block(0, 10, 10, nc);
-    P_.block(0, 10, 10, nc) = Pxc;
-    P_.block(10, 0, nc, 10) = Pxc.transpose();
-  }
+  // Clones are static: only the current-state rows (and mirrored columns) change.
+  covariance::propagate_leading(P_, 10 + kCloneDim * clone_count(), F, Q);
 }
 
 bool WindowMsckf::update(const QuadMassMeas& y, const Eigen::Matrix<double, 9, 9>& R) {
   // Augment (eqs. 9-10): the clone is [theta, p, v] of the current state, J = [I_9 0].
-  const int at = 10 + kCloneDim * clone_count();
-  P_.block(at, 0, kCloneDim, at) = P_.block(0, 0, kCloneDim, at);
-  P_.block(0, at, at, kCloneDim) = P_.block(0, 0, at, kCloneDim);
-  P_.block<kCloneDim, kCloneDim>(at, at) = P_.topLeftCorner<kCloneDim, kCloneDim>();
+  covariance::clone_into(P_, 10 + kCloneDim * clone_count(), 0, kCloneDim);
   clones_.push_back(model_.measure(x_));
   meas_.push_back(y);
   if (clone_count() < window_) return false;
@@ -54,21 +46,18 @@ bool WindowMsckf::update(const QuadMassMeas& y, const Eigen::Matrix<double, 9, 9
 bool WindowMsckf::stacked_update(const Eigen::Matrix<double, 9, 9>& R) {
   const int c = clone_count();
   const int nc = kCloneDim * c;
-  // Eqs. 11-14 with H = [0 | I]: S = P_cc + blockdiag(R), correction of the current state only.
+  // Eqs. 11-14 with H = [0 | I]: S = P_cc + blockdiag(R), P_xy = P_xc; the clones are dropped
+  // after the update, so only the current state's block is corrected.
   Eigen::MatrixXd S = P_.block(10, 10, nc, nc);
   Eigen::VectorXd r(nc);
   for (int j = 0; j < c; ++j) {
     S.block<9, 9>(9 * j, 9 * j) += R;
     r.segment<9>(9 * j) = Model::meas_boxminus(meas_[j], clones_[j]);
   }
-  Eigen::LLT<Eigen::MatrixXd> llt(S);
-  if (llt.info() != Eigen::Success) return false;
-  // W_x = P_xc L^-T (10 x nc)
-  Eigen::MatrixXd Wx = llt.matrixL().solve(P_.block(10, 0, nc, 10)).transpose();
-  const Model::StateVec dx = Wx * llt.matrixL().solve(r);
-  Model::StateMat Pxx = P_.topLeftCorner<10, 10>();
-  Pxx.noalias() -= Wx * Wx.transpose();
-  P_.topLeftCorner<10, 10>() = 0.5 * (Pxx + Pxx.transpose());
+  Model::StateMat P_xx = P_.topLeftCorner<10, 10>();
+  Model::StateVec dx;
+  if (!kalman_correct(P_xx, P_.block(0, 10, 10, nc), S, r, &dx)) return false;
+  P_.topLeftCorner<10, 10>() = P_xx;
   x_ = Model::boxplus(x_, dx);
   return true;
 }

@@ -2,12 +2,13 @@
 /// @file ekf.h
 /// @brief On-manifold EKF over any ManifoldSystem (seed eqs. 3-8): predict
 /// x^- = f(x, u), P^- = F P F^T + Q (eqs. 3-4); update r = y ⊟ h(x^-), K = P H^T S^-1,
-/// x = x^- ⊞ K r, P = (I - K H) P^- (eqs. 5-8).
+/// x = x^- ⊞ K r, P = (I - K H) P^- (eqs. 5-8), the correction being vio_core's one
+/// kalman_correct (vio_core/kalman.h).
 
 #include <Eigen/Core>
 
-#include "massid/filters/kalman_update.h"
 #include "massid/filters/system_model.h"
+#include "vio_core/kalman.h"
 
 namespace vid::massid {
 
@@ -38,8 +39,11 @@ class ManifoldEkf {
   bool update(const typename Model::Meas& y, const MeasCov& R) {
     const Eigen::Matrix<double, M, N> H = model_.measurement_jacobian(x_);
     const Eigen::Matrix<double, M, 1> r = Model::meas_boxminus(y, model_.measure(x_));
+    const Eigen::Matrix<double, N, M> PHt = P_ * H.transpose();
+    MeasCov S = H * PHt + R;
+    S = 0.5 * (S + S.transpose()).eval();
     Eigen::Matrix<double, N, 1> dx;
-    if (!ekf_correct<N, M>(P_, H, r, R, &dx)) return false;
+    if (!kalman_correct(P_, PHt, S, r, &dx)) return false;
     x_ = Model::boxplus(x_, dx);
     return true;
   }

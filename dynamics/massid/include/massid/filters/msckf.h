@@ -7,8 +7,9 @@
 /// (eqs. 13-14); the clones are then marginalized and a new window starts.
 ///
 /// Because every clone is dropped right after the update, only the current-state rows of the
-/// gain are formed: P_xx <- P_xx - W_x W_x^T with W = P_x,c L^-T, L L^T = P_cc + R (exactly the
-/// current-state block of the full update).
+/// gain are formed: vio_core's kalman_correct with P_xy = P_xc and S = P_cc + R (exactly the
+/// current-state block of the full update); cloning and propagation are vio_core's covariance
+/// bookkeeping (vio_core/covariance.h) on a P allocated once for the whole window.
 
 #include <Eigen/Core>
 #include <vector>

@@ -13,8 +13,8 @@
 #include <array>
 #include <utility>
 
-#include "massid/filters/kalman_update.h"
 #include "massid/filters/system_model.h"
+#include "vio_core/kalman.h"
 
 namespace vid::massid {
 
@@ -102,7 +102,7 @@ class ManifoldUkf {
     Pxy.noalias() = L_.lazyProduct(EWd.transpose());
     const MeasVec r = Model::meas_boxminus(y, y_ref) - dy_mean;
     StateVec dx;
-    if (!kalman_correct<N, M>(P_, Pxy, Pyy, r, &dx)) return false;
+    if (!kalman_correct(P_, Pxy, Pyy, r, &dx)) return false;
     x_ = Model::boxplus(x_, dx);
     return true;
   }
