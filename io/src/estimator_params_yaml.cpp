@@ -34,6 +34,7 @@ const DoubleField kDoubles[] = {
     VID_FIELD(thrust_noise_density),
     VID_FIELD(force_random_walk),
     VID_FIELD(force_rate_random_walk),
+    VID_FIELD(thrust_scale_random_walk),
     VID_FIELD(rotor_gap_s),
     VID_FIELD(rotor_gap_noise_scale),
     VID_FIELD(imu_gap_s),
@@ -68,6 +69,7 @@ const DoubleField kDoubles[] = {
     VID_FIELD(init_sigma_accel_bias),
     VID_FIELD(init_sigma_force),
     VID_FIELD(init_sigma_force_rate),
+    VID_FIELD(init_sigma_thrust_scale),
     VID_FIELD(max_velocity),
     VID_FIELD(max_position_sigma),
 };

@@ -50,6 +50,17 @@ std::string force_csv_header() {
          "fw_z [m s^-2],sigma_x [m s^-2],sigma_y [m s^-2],sigma_z [m s^-2]";
 }
 
+std::string mass_csv_header() {
+  // The mass-estimate format vid-eval mass reads (docs/formats.md): timestamp, mass, sigma.
+  return "#timestamp [ns],mass [kg],sigma [kg]";
+}
+
+std::string mass_csv_line(const EstimateRow& r, double mass_kg) {
+  // m = m0 / s, sigma_m = m0 sigma_s / s^2 (first order).
+  const double s = r.thrust_scale;
+  return fmt::format("{},{:.9g},{:.6g}", r.t_ns, mass_kg / s, mass_kg * r.sigma_thrust_scale / (s * s));
+}
+
 std::string timing_csv_header() {
   return "#timestamp [ns],tracking [ms],propagation [ms],accel_updates [ms],msckf_update [ms],"
          "marginalization [ms],total [ms]";
@@ -61,8 +72,9 @@ std::string tracks_csv_row(TimeNs t_ns, const FeatureObservation& ob) {
   return fmt::format("{},{},{},{:.4f},{:.4f}", t_ns, ob.cam_id, ob.feature_id, ob.uv.x(), ob.uv.y());
 }
 
-RunOutputs::RunOutputs(const std::filesystem::path& out_dir, bool write_force)
+RunOutputs::RunOutputs(const std::filesystem::path& out_dir, bool write_force, std::optional<double> mass_kg)
     : write_force_(write_force),
+      mass_kg_(mass_kg),
       tum_(out_dir / "trajectory_tum.txt"),
       state_(out_dir / "state.csv"),
       force_(out_dir / "force.csv"),
@@ -71,6 +83,10 @@ RunOutputs::RunOutputs(const std::filesystem::path& out_dir, bool write_force)
   state_.line(state_csv_header());
   force_.line(force_csv_header());
   timing_.line(timing_csv_header());
+  if (mass_kg_) {
+    mass_.emplace(out_dir / "mass.csv");
+    mass_->line(mass_csv_header());
+  }
 }
 
 std::string tum_line(const TimedPose& x) {
@@ -95,6 +111,7 @@ void RunOutputs::write_estimate(const EstimateRow& r) {
   for (int i = 0; i < 18; ++i) row += fmt::format(",{:.6g}", r.sigma(i));
   state_.line(row);
   if (write_force_) force_.line(force_csv_line(r));
+  if (mass_) mass_->line(mass_csv_line(r, *mass_kg_));
 }
 
 std::string force_csv_line(const EstimateRow& r) {
@@ -113,6 +130,7 @@ void RunOutputs::close() {
   state_.close();
   force_.close();
   timing_.close();
+  if (mass_) mass_->close();
 }
 
 SmoothedOutputs::SmoothedOutputs(const std::filesystem::path& out_dir)

@@ -47,6 +47,8 @@ EstimateRow to_row(const EstimateOutput& e) {
   r.sigma.head(n) = e.sigma.head(n);
   // The force sigma is reported in the body frame whatever frame the filter's force state uses.
   if (n == 18) r.sigma.tail<3>() = e.cov_F_I.diagonal().cwiseMax(0.0).cwiseSqrt();
+  r.thrust_scale = e.x.thrust_scale;
+  r.sigma_thrust_scale = e.sigma_thrust_scale;
   return r;
 }
 
@@ -60,7 +62,10 @@ System::System(SystemParams params) : p_(std::move(params)), cpu_start_s_(proces
   if (p_.features == FeatureSource::kFeat0)
     for (const auto& cam : p_.config.cameras) models_.push_back(CameraModel::create(cam));
   build_estimator();
-  if (p_.out_dir) outputs_.emplace(*p_.out_dir, dynamics());
+  if (p_.out_dir) {
+    const bool mass_state = dynamics() && p_.config.estimator.thrust_scale_random_walk > 0.0 && p_.config.vehicle;
+    outputs_.emplace(*p_.out_dir, dynamics(), mass_state ? std::optional<double>(p_.config.vehicle->mass_kg) : std::nullopt);
+  }
   image_bits_.fill(p_.config.frontend.image_bit_depth);
   if (p_.write_tracks && p_.out_dir && frontend_) {  // once: a re-initialization keeps the file
     tracks_.emplace(*p_.out_dir / "tracks.csv");

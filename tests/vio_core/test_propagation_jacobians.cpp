@@ -13,43 +13,43 @@ using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-// dx of size 15 (imu), 18 (force) or 21 (force + force rate).
-ImuState perturb(const ImuState& x, const VectorXd& dx) {
-  const bool dyn = dx.size() >= 18;
+// dx over the IMU block of the given layout.
+ImuState perturb(const ImuState& x, const VectorXd& dx, const ImuLayout& l) {
   ImuState y = x;
   y.T_WI.q = so3::boxplus(x.T_WI.q, dx.segment<3>(imu_idx::kTheta));
   y.T_WI.p += dx.segment<3>(imu_idx::kP);
   y.v_WI += dx.segment<3>(imu_idx::kV);
   y.b_g += dx.segment<3>(imu_idx::kBg);
   y.b_a += dx.segment<3>(imu_idx::kBa);
-  if (dyn) y.F_ext += dx.segment<3>(imu_idx::kF);
-  if (dx.size() == 21) y.F_dot += dx.segment<3>(imu_idx::kFdot);
+  if (l.force) y.F_ext += dx.segment<3>(imu_idx::kF);
+  if (l.force_rate) y.F_dot += dx.segment<3>(imu_idx::kFdot);
+  if (l.thrust_scale) y.thrust_scale += dx(l.thrust_scale_index());
   return y;
 }
 
-VectorXd difference(const ImuState& a, const ImuState& b, int dim) {
-  const bool dyn = dim >= 18;
-  VectorXd d(dim);
+VectorXd difference(const ImuState& a, const ImuState& b, const ImuLayout& l) {
+  VectorXd d(l.dim());
   d.segment<3>(imu_idx::kTheta) = so3::boxminus(a.T_WI.q, b.T_WI.q);
   d.segment<3>(imu_idx::kP) = a.T_WI.p - b.T_WI.p;
   d.segment<3>(imu_idx::kV) = a.v_WI - b.v_WI;
   d.segment<3>(imu_idx::kBg) = a.b_g - b.b_g;
   d.segment<3>(imu_idx::kBa) = a.b_a - b.b_a;
-  if (dyn) d.segment<3>(imu_idx::kF) = a.F_ext - b.F_ext;
-  if (dim == 21) d.segment<3>(imu_idx::kFdot) = a.F_dot - b.F_dot;
+  if (l.force) d.segment<3>(imu_idx::kF) = a.F_ext - b.F_ext;
+  if (l.force_rate) d.segment<3>(imu_idx::kFdot) = a.F_dot - b.F_dot;
+  if (l.thrust_scale) d(l.thrust_scale_index()) = a.thrust_scale - b.thrust_scale;
   return d;
 }
 
-// n of size 12 (imu), 15 (force) or 18 (force + force rate).
-DiscreteNoise noise_from(const VectorXd& n) {
-  const bool dyn = n.size() >= 15;
+// n over the noise vector of the given layout.
+DiscreteNoise noise_from(const VectorXd& n, const ImuLayout& l) {
   DiscreteNoise w;
   w.n_g = n.segment<3>(noise_idx::kNg);
   w.n_a = n.segment<3>(noise_idx::kNa);
   w.w_g = n.segment<3>(noise_idx::kWg);
   w.w_a = n.segment<3>(noise_idx::kWa);
-  if (dyn) w.w_F = n.segment<3>(noise_idx::kWF);
-  if (n.size() == 18) w.w_Fd = n.segment<3>(noise_idx::kWFd);
+  if (l.force) w.w_F = n.segment<3>(noise_idx::kWF);
+  if (l.force_rate) w.w_Fd = n.segment<3>(noise_idx::kWFd);
+  if (l.thrust_scale) w.w_s = n(l.noise_dim() - 1);
   return w;
 }
 
@@ -62,6 +62,7 @@ ImuState sample_state() {
   x.b_a = Vector3d(0.1, -0.05, 0.2);
   x.F_ext = Vector3d(0.5, -0.3, 0.2);
   x.F_dot = Vector3d(-0.7, 0.4, 0.9);
+  x.thrust_scale = 0.83;  // a payload of 20 % of the mass
   return x;
 }
 
@@ -75,14 +76,17 @@ ImuInterval sample_interval(bool dyn, double dt) {
   return u;
 }
 
-// Compare every 3x3 block relative to its own size (and the whole matrix).
+// Compare every 3x3 block (a trailing scalar state: 3x1 / 1x3) relative to its own size (and
+// the whole matrix).
 void expect_blocks_near(const MatrixXd& A, const MatrixXd& N, double rel) {
   ASSERT_EQ(A.rows(), N.rows());
   ASSERT_EQ(A.cols(), N.cols());
   for (int i = 0; i < A.rows(); i += 3) {
     for (int j = 0; j < A.cols(); j += 3) {
-      const MatrixXd a = A.block(i, j, 3, 3);
-      const MatrixXd n = N.block(i, j, 3, 3);
+      const int bi = std::min<int>(3, static_cast<int>(A.rows()) - i);
+      const int bj = std::min<int>(3, static_cast<int>(A.cols()) - j);
+      const MatrixXd a = A.block(i, j, bi, bj);
+      const MatrixXd n = N.block(i, j, bi, bj);
       const double scale = std::max(a.norm(), 1e-3 * A.norm());
       EXPECT_LE((a - n).norm(), rel * scale) << "block (" << i << "," << j << ")\nanalytic\n"
                                              << a << "\nnumeric\n" << n;
@@ -91,36 +95,38 @@ void expect_blocks_near(const MatrixXd& A, const MatrixXd& N, double rel) {
 }
 
 void check_mode(PropagationMode mode, double dt, ForceFrame frame = ForceFrame::kBody,
-                bool rate = false) {
+                bool rate = false, bool thrust_scale = false) {
   const bool dyn = mode == PropagationMode::kDynamics;
-  const int d = dyn ? (rate ? 21 : 18) : 15;
-  const int nn = dyn ? (rate ? 18 : 15) : 12;
+  const ImuLayout l{dyn, dyn && rate, dyn && thrust_scale};
+  const int d = l.dim();
+  const int nn = l.noise_dim();
   const Vector3d g(0, 0, -9.81);
   ImuState x = sample_state();
-  if (!rate) x.F_dot.setZero();
+  if (!l.force_rate) x.F_dot.setZero();
+  if (!l.thrust_scale) x.thrust_scale = 1.0;
   const ImuInterval u = sample_interval(dyn, dt);
   const ImuState y = propagate_mean(x, u, mode, g, {}, frame);
   ImuFej fej;
   fej.T_WI = x.T_WI;
   fej.v_WI = x.v_WI;
   MatrixXd Phi, G;
-  propagation_jacobians(x, fej, y, u, mode, g, &Phi, &G, frame, rate);
+  propagation_jacobians(x, fej, y, u, mode, g, &Phi, &G, frame, rate, thrust_scale);
 
   const double h = 1e-6;
   MatrixXd Phi_num(d, d), G_num(d, nn);
   for (int i = 0; i < d; ++i) {
     VectorXd e = VectorXd::Zero(d);
     e(i) = h;
-    const ImuState yp = propagate_mean(perturb(x, e), u, mode, g, {}, frame);
-    const ImuState ym = propagate_mean(perturb(x, -e), u, mode, g, {}, frame);
-    Phi_num.col(i) = (difference(yp, y, d) - difference(ym, y, d)) / (2 * h);
+    const ImuState yp = propagate_mean(perturb(x, e, l), u, mode, g, {}, frame);
+    const ImuState ym = propagate_mean(perturb(x, -e, l), u, mode, g, {}, frame);
+    Phi_num.col(i) = (difference(yp, y, l) - difference(ym, y, l)) / (2 * h);
   }
   for (int i = 0; i < nn; ++i) {
     VectorXd e = VectorXd::Zero(nn);
     e(i) = h;
-    const ImuState yp = propagate_mean(x, u, mode, g, noise_from(e), frame);
-    const ImuState ym = propagate_mean(x, u, mode, g, noise_from(-e), frame);
-    G_num.col(i) = (difference(yp, y, d) - difference(ym, y, d)) / (2 * h);
+    const ImuState yp = propagate_mean(x, u, mode, g, noise_from(e, l), frame);
+    const ImuState ym = propagate_mean(x, u, mode, g, noise_from(-e, l), frame);
+    G_num.col(i) = (difference(yp, y, l) - difference(ym, y, l)) / (2 * h);
   }
   expect_blocks_near(Phi, Phi_num, 1e-6);
   expect_blocks_near(G, G_num, 1e-6);
@@ -136,6 +142,11 @@ TEST(PropagationJacobians, WorldFrameForceMatchesNumeric) {
 TEST(PropagationJacobians, ForceRateStateMatchesNumericBothFrames) {
   check_mode(PropagationMode::kDynamics, 0.0025, ForceFrame::kBody, true);
   check_mode(PropagationMode::kDynamics, 0.0025, ForceFrame::kWorld, true);
+}
+TEST(PropagationJacobians, ThrustScaleStateMatchesNumericBothFrames) {
+  check_mode(PropagationMode::kDynamics, 0.0025, ForceFrame::kBody, false, true);
+  check_mode(PropagationMode::kDynamics, 0.0025, ForceFrame::kWorld, true, true);
+  check_mode(PropagationMode::kDynamics, 0.5, ForceFrame::kWorld, true, true);
 }
 // Long intervals (gaps) exercise the non-small-angle branches.
 TEST(PropagationJacobians, LongIntervalEveryModel) {
@@ -176,21 +187,25 @@ TEST(PropagationMean, ConstantAccelerationIsExact) {
 }
 
 void check_accel_jacobian(ForceFrame frame) {
-  // h(x) = T_m + F_I + b_a with F_I = F_ext (body) or R^T F_ext (world).
+  // h(x) = s T_m + F_I + b_a with F_I = F_ext (body) or R^T F_ext (world); H_s = T_m (built in
+  // accel_update, checked against a dense update in test_state.cpp).
   const ImuState x = sample_state();
+  const ImuLayout l{true, true, true};
+  const int d = l.dim();
   const Vector3d Tm(0, 0, 9.9);
-  MatrixXd H_num(3, 21);
+  MatrixXd H_num(3, d);
   const double h = 1e-6;
-  for (int i = 0; i < 21; ++i) {
-    VectorXd e = VectorXd::Zero(21);
+  for (int i = 0; i < d; ++i) {
+    VectorXd e = VectorXd::Zero(d);
     e(i) = h;
-    H_num.col(i) = (predict_accel(perturb(x, e), Tm, frame) - predict_accel(perturb(x, -e), Tm, frame)) / (2 * h);
+    H_num.col(i) = (predict_accel(perturb(x, e, l), Tm, frame) - predict_accel(perturb(x, -e, l), Tm, frame)) / (2 * h);
   }
   const AccelJacobian J = accel_jacobian(x, x.T_WI.q, frame);
-  MatrixXd H = MatrixXd::Zero(3, 21);
+  MatrixXd H = MatrixXd::Zero(3, d);
   H.block<3, 3>(0, imu_idx::kTheta) = J.H_theta;
   H.block<3, 3>(0, imu_idx::kBa).setIdentity();
   H.block<3, 3>(0, imu_idx::kF) = J.H_F;
+  H.col(l.thrust_scale_index()) = Tm;
   EXPECT_LT((H - H_num).norm(), 1e-6 * H.norm()) << "analytic\n" << H << "\nnumeric\n" << H_num;
 }
 

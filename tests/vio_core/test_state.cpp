@@ -24,12 +24,14 @@ MatrixXd random_spd(int n, unsigned seed) {
   return 0.1 * A * A.transpose() / n + 0.01 * MatrixXd::Identity(n, n);
 }
 
-FilterState make_state(bool dyn, ForceFrame frame = ForceFrame::kBody, bool rate = false) {
-  FilterState s(dyn, frame, rate);
+FilterState make_state(bool dyn, ForceFrame frame = ForceFrame::kBody, bool rate = false,
+                       bool thrust_scale = false) {
+  FilterState s(dyn, frame, rate, thrust_scale);
   ImuState x;
   x.T_WI.q = so3::quat_exp(Vector3d(0.1, 0.2, -0.3));
   x.T_WI.p = Vector3d(1, 2, 3);
   if (dyn) x.F_ext = Vector3d(0.4, -0.6, 0.3);
+  if (thrust_scale) x.thrust_scale = 0.8;
   s.initialize(1000, x, random_spd(s.imu_dim(), 3));
   return s;
 }
@@ -141,8 +143,8 @@ TEST(EkfUpdate, SparseGenericUpdateMatchesDense) {
   EXPECT_EQ((s.P() - P_after).norm(), 0.0);
 }
 
-void check_accel_update(ForceFrame frame, bool rate) {
-  FilterState s = make_state(true, frame, rate);
+void check_accel_update(ForceFrame frame, bool rate, bool thrust_scale = false) {
+  FilterState s = make_state(true, frame, rate, thrust_scale);
   for (int i = 0; i < 3; ++i) s.augment_clone();
   s.P() = random_spd(s.dim(), 13);
   const Vector3d Tm(0, 0, 9.7), a_m(0.2, -0.1, 9.9);
@@ -151,6 +153,7 @@ void check_accel_update(ForceFrame frame, bool rate) {
   H.block<3, 3>(0, imu_idx::kTheta) = J.H_theta;
   H.block<3, 3>(0, imu_idx::kBa).setIdentity();
   H.block<3, 3>(0, imu_idx::kF) = J.H_F;
+  if (thrust_scale) H.col(s.layout().thrust_scale_index()) = Tm;  // d (s T_m) / d s
   const VectorXd r = a_m - predict_accel(s.imu(), Tm, frame);
   MatrixXd P_ref = s.P();
   VectorXd dx_ref;
@@ -165,6 +168,10 @@ void check_accel_update(ForceFrame frame, bool rate) {
   EXPECT_LT((s.imu().v_WI - x0.v_WI - dx_ref.segment<3>(imu_idx::kV)).norm(), 1e-12);
   if (rate) {
     EXPECT_LT((s.imu().F_dot - x0.F_dot - dx_ref.segment<3>(imu_idx::kFdot)).norm(), 1e-12);
+  }
+  if (thrust_scale) {
+    EXPECT_NEAR(s.imu().thrust_scale - x0.thrust_scale, dx_ref(s.layout().thrust_scale_index()), 1e-12);
+    EXPECT_NE(s.imu().thrust_scale, x0.thrust_scale);
   }
   // chi2 gating: an absurd reading is rejected
   const UpdateResult bad = accel_update(s, a_m + Vector3d(100, 0, 0), Tm, 0.04, 11.345);
@@ -198,6 +205,10 @@ TEST(EkfUpdate, AccelUpdateMatchesDenseUpdate) { check_accel_update(ForceFrame::
 TEST(EkfUpdate, AccelUpdateMatchesDenseUpdateWorldForceWithRate) {
   check_accel_update(ForceFrame::kWorld, true);
 }
+TEST(EkfUpdate, AccelUpdateMatchesDenseUpdateWithThrustScale) {
+  check_accel_update(ForceFrame::kBody, false, true);
+  check_accel_update(ForceFrame::kWorld, true, true);
+}
 
 TEST(FilterState, ForceRateStateExtendsTheImuBlock) {
   EXPECT_EQ(FilterState(true, ForceFrame::kWorld, true).imu_dim(), 21);
@@ -215,6 +226,28 @@ TEST(FilterState, ForceRateStateExtendsTheImuBlock) {
   FilterState s = make_state(true, ForceFrame::kWorld, true);
   s.augment_clone();
   EXPECT_EQ(s.clones().front().cov_index, 21);
+}
+
+TEST(FilterState, ThrustScaleStateIsLastInTheImuBlock) {
+  EXPECT_EQ(FilterState(true, ForceFrame::kWorld, true, true).imu_dim(), 22);
+  EXPECT_EQ(FilterState(true, ForceFrame::kWorld, false, true).imu_dim(), 19);
+  EXPECT_EQ(FilterState(false, ForceFrame::kWorld, false, true).imu_dim(), 15);  // needs the force
+  EstimatorParams params;
+  EXPECT_FALSE(FilterState(params).with_thrust_scale()) << "off by default";
+  params.thrust_scale_random_walk = 0.01;
+  const FilterState on(params);
+  ASSERT_TRUE(on.with_thrust_scale());
+  EXPECT_EQ(on.layout().thrust_scale_index(), on.imu_dim() - 1);
+  // A correction moves s; off, s stays 1.
+  FilterState s = make_state(true, ForceFrame::kWorld, true, true);
+  s.augment_clone();
+  EXPECT_EQ(s.clones().front().cov_index, 22);
+  Eigen::VectorXd dx = Eigen::VectorXd::Zero(s.dim());
+  dx(s.layout().thrust_scale_index()) = 0.05;
+  s.apply_correction(dx);
+  EXPECT_DOUBLE_EQ(s.imu().thrust_scale, 0.85);
+  FilterState off = make_state(true, ForceFrame::kWorld, true, false);
+  EXPECT_EQ(off.imu().thrust_scale, 1.0);
 }
 
 TEST(ForceFrames, BodyAndWorldViewsAgree) {

@@ -61,7 +61,7 @@ UpdateResult ekf_update(FilterState& state, const Eigen::MatrixXd& H, const Eige
 }
 
 Eigen::Vector3d predict_accel(const ImuState& x, const Eigen::Vector3d& T_m, ForceFrame frame) {
-  return T_m + force_in_body(x, frame) + x.b_a;
+  return x.thrust_scale * T_m + force_in_body(x, frame) + x.b_a;
 }
 
 AccelJacobian accel_jacobian(const ImuState& x, const Eigen::Quaterniond& q_WI_lin, ForceFrame frame) {
@@ -84,21 +84,27 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   UpdateResult res;
   Eigen::MatrixXd& P = state.P();
   thread_local Eigen::MatrixXd PHt;
+  // H = [H_theta (world force only) | I at b_a | H_F at F_ext | T_m at s (if estimated)]:
+  // P H^T from those columns of P, then S = H (P H^T) from the same rows.
+  const int is = state.with_thrust_scale() ? state.layout().thrust_scale_index() : -1;
   Eigen::Matrix3d S;
   if (state.force_frame() == ForceFrame::kBody) {
-    // H = [.. I(b_a) .. I(F) ..] => P H^T = P[:, ba] + P[:, F]; S = H P H^T + R.
+    // H_F = I, H_theta = 0.
     PHt = P.middleCols<3>(imu_idx::kBa) + P.middleCols<3>(imu_idx::kF);
+    if (is >= 0) PHt.noalias() += P.col(is) * T_m.transpose();
     S = PHt.middleRows<3>(imu_idx::kBa) + PHt.middleRows<3>(imu_idx::kF);
   } else {
-    // World-frame force: H_theta = [R^T F_W]x, H_F = R^T, H_ba = I, linearized at the first
-    // estimate of R so that H annihilates the yaw direction of the propagation's nullspace.
+    // World-frame force: H_theta = [R^T F_W]x, H_F = R^T, linearized at the first estimate of R
+    // so that H annihilates the yaw direction of the propagation's nullspace.
     const AccelJacobian J = accel_jacobian(state.imu(), state.imu_fej().T_WI.q, ForceFrame::kWorld);
     PHt = P.middleCols<3>(imu_idx::kBa);
     PHt.noalias() += P.middleCols<3>(imu_idx::kTheta) * J.H_theta.transpose();
     PHt.noalias() += P.middleCols<3>(imu_idx::kF) * J.H_F.transpose();
+    if (is >= 0) PHt.noalias() += P.col(is) * T_m.transpose();
     S = PHt.middleRows<3>(imu_idx::kBa) + J.H_theta * PHt.middleRows<3>(imu_idx::kTheta) +
         J.H_F * PHt.middleRows<3>(imu_idx::kF);
   }
+  if (is >= 0) S.noalias() += T_m * PHt.row(is);
   S = 0.5 * (S + S.transpose()).eval();
   S.diagonal().array() += noise_var;
   const Eigen::Vector3d r = a_m - predict_accel(state.imu(), T_m, state.force_frame());
@@ -113,7 +119,8 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
     info->t_ns = state.time();
     info->w = R * r;
     info->S = R * S * R.transpose();
-    info->y = R * (a_m - T_m);
+    info->y = R * (a_m - state.imu().thrust_scale * T_m);
+    info->T = R * T_m;
     info->R_WI = state.imu().T_WI.q.toRotationMatrix();  // the estimate itself, in both force models
     info->dx_imu.setZero();
     info->gated = gated;

@@ -104,6 +104,13 @@ void apply_force_jump(FilterState& state, const std::vector<AccelInnovation>& wi
     P.middleCols<3>(imu_idx::kFdot).setZero();
     P.block<3, 3>(imu_idx::kFdot, imu_idx::kFdot) = sigma_rate0 * sigma_rate0 * Eigen::Matrix3d::Identity();
   }
+  // A payload picked up or dropped is such a step too (s T_m changes): with the thrust scale
+  // estimated the step's prior goes to s as well, in thrust units, and the re-update below and
+  // the later thrust variation decide between the two.
+  Eigen::Vector3d T_bar = Eigen::Vector3d::Zero();
+  for (const AccelInnovation& s : window) T_bar += s.T / n;
+  const int is = state.with_thrust_scale() ? state.layout().thrust_scale_index() : -1;
+  if (is >= 0 && T_bar.norm() > 1e-6) P(is, is) += 4.0 * step * step / T_bar.squaredNorm();
 
   // 3. The window's mean measurement, once: y_bar = F(t_bar) + R_bar b_a + noise (world
   //    model; body model: F + b_a), F(t_bar) = F - dF/dt (t - t_bar).
@@ -122,7 +129,7 @@ void apply_force_jump(FilterState& state, const std::vector<AccelInnovation>& wi
   dt_bar /= n;
   std::vector<int> cols;
   const int blocks = state.with_force_rate() ? 4 : 3;
-  Eigen::MatrixXd H(3, 3 * blocks);
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3, 3 * blocks + (is >= 0 ? 1 : 0));
   Eigen::Vector3d h = x.F_ext + R_bar * x.b_a;
   // theta: the rotation that brought each sample into the force frame carries the attitude
   // error, y = F + R b_a + R [R^T y]x dtheta (right perturbation; zero in the body model).
@@ -137,6 +144,11 @@ void apply_force_jump(FilterState& state, const std::vector<AccelInnovation>& wi
     H.block<3, 3>(0, 9) = -dt_bar * Eigen::Matrix3d::Identity();
     h -= dt_bar * x.F_dot;
     for (int k = 0; k < 3; ++k) cols.push_back(imu_idx::kFdot + k);
+  }
+  if (is >= 0) {
+    // y = a_m - s T_m: a change ds of the thrust scale moves the model by + T_bar ds.
+    H.col(3 * blocks) = T_bar;
+    cols.push_back(is);
   }
   const Eigen::Matrix3d Rn = (noise_var / n) * Eigen::Matrix3d::Identity();
   ekf_update_columns(state, cols, H, y_bar - h, Rn, 0.0);

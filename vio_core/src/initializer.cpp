@@ -33,10 +33,10 @@ ImuState state_from_groundtruth(const GroundTruthSample& gt) {
 }
 
 Eigen::MatrixXd initial_covariance(const EstimatorParams& p, const Eigen::Quaterniond& q_WI) {
-  const bool dyn = p.mode == PropagationMode::kDynamics;
-  const bool rate = dyn && p.force_rate_random_walk > 0.0;
-  const int d = dyn ? (rate ? 21 : 18) : 15;
-  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(d, d);
+  const ImuLayout layout = ImuLayout::from(p);
+  const bool dyn = layout.force;
+  const bool rate = layout.force_rate;
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(layout.dim(), layout.dim());
   // World-frame orientation covariance diag(rp, rp, yaw) -> body right perturbation R^T C R.
   const Eigen::Matrix3d R = q_WI.toRotationMatrix();
   const Eigen::Vector3d s(p.init_sigma_roll_pitch, p.init_sigma_roll_pitch, p.init_sigma_yaw);
@@ -52,6 +52,11 @@ Eigen::MatrixXd initial_covariance(const EstimatorParams& p, const Eigen::Quater
   if (rate) {
     // The force rate lives in the force's frame; a world-frame rate is isotropic anyway.
     P.block<3, 3>(imu_idx::kFdot, imu_idx::kFdot).diagonal().setConstant(std::pow(p.init_sigma_force_rate, 2));
+  }
+  if (layout.thrust_scale) {
+    // The calibration's mass and thrust coefficients are the prior: s = 1.
+    const int is = layout.thrust_scale_index();
+    P(is, is) = p.init_sigma_thrust_scale * p.init_sigma_thrust_scale;
   }
   return P;
 }

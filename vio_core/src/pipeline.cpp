@@ -435,10 +435,12 @@ void Pipeline::check_divergence(bool full) {
   std::string why;
   const bool mean_finite = x.T_WI.q.coeffs().allFinite() && x.T_WI.p.allFinite() &&
                            x.v_WI.allFinite() && x.b_g.allFinite() && x.b_a.allFinite() &&
-                           x.F_ext.allFinite();
+                           x.F_ext.allFinite() && std::isfinite(x.thrust_scale);
   const Eigen::VectorXd diag = state_.P().diagonal();
   if (!mean_finite) {
     why = "state mean is not finite";
+  } else if (!(x.thrust_scale > 0.0)) {
+    why = "thrust scale " + std::to_string(x.thrust_scale) + " is not positive";
   } else if (x.v_WI.norm() > p.max_velocity) {
     why = "velocity " + std::to_string(x.v_WI.norm()) + " m/s exceeds max_velocity";
   } else if (!diag.allFinite() || diag.minCoeff() <= 0.0) {
@@ -489,6 +491,10 @@ void Pipeline::emit(TimeNs t) {
     const Eigen::Matrix3d P_other = J * P_tf * J.transpose();
     o.cov_F_I = frame == ForceFrame::kBody ? P_F : P_other;
     o.cov_F_W = frame == ForceFrame::kWorld ? P_F : P_other;
+  }
+  if (state_.with_thrust_scale()) {
+    const int is = state_.layout().thrust_scale_index();
+    o.sigma_thrust_scale = std::sqrt(std::max(0.0, state_.P()(is, is)));
   }
   o.status = status_;
   if (lagged_) lagged_->add_causal(o);

@@ -22,7 +22,7 @@ struct Drive {
   Vector3d o[3];
 };
 
-// imu: a = a_m - b_a; dynamics: a = T_m (+ F_I(s) in the body-frame force model), and
+// imu: a = a_m - b_a; dynamics: a = s T_m (+ F_I(s) in the body-frame force model), and
 // o = g (+ F_W(s) in the world-frame model), with F(s) = F_k + F_dot s (force-rate state).
 Drive stage_drive(const ImuState& x, const ImuInterval& u, PropagationMode mode, ForceFrame frame,
                   const Vector3d& g_W, const DiscreteNoise& n) {
@@ -35,7 +35,7 @@ Drive stage_drive(const ImuState& x, const ImuInterval& u, PropagationMode mode,
       d.a[i] = raw[i] - x.b_a - n.n_a;
       continue;
     }
-    d.a[i] = raw[i] + n.n_a;
+    d.a[i] = x.thrust_scale * raw[i] + n.n_a;
     const Vector3d F_s = x.F_ext + x.F_dot * (kStage[i] * u.dt);
     (frame == ForceFrame::kBody ? d.a[i] : d.o[i]) += F_s;
   }
@@ -77,6 +77,7 @@ ImuState propagate_mean(const ImuState& x, const ImuInterval& u, PropagationMode
   if (mode == PropagationMode::kDynamics) {
     y.F_ext = x.F_ext + x.F_dot * dt + noise.w_F;
     y.F_dot = x.F_dot + noise.w_Fd;
+    y.thrust_scale = x.thrust_scale + noise.w_s;
   }
   return y;
 }
@@ -84,12 +85,13 @@ ImuState propagate_mean(const ImuState& x, const ImuInterval& u, PropagationMode
 void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuState& x_k1,
                            const ImuInterval& u, PropagationMode mode, const Vector3d& g_W,
                            Eigen::MatrixXd* Phi_out, Eigen::MatrixXd* G_out, ForceFrame frame,
-                           bool force_rate) {
+                           bool force_rate, bool thrust_scale) {
   namespace ix = imu_idx;
   const bool dyn = mode == PropagationMode::kDynamics;
   const bool rate = dyn && force_rate;
-  const int d = dyn ? (rate ? 21 : 18) : 15;
-  const int nn = dyn ? (rate ? 18 : 15) : 12;
+  const ImuLayout layout{dyn, rate, dyn && thrust_scale};
+  const int d = layout.dim();
+  const int nn = layout.noise_dim();
   const double dt = u.dt;
   const Vector3d w = mid_rate(x_k, u, DiscreteNoise{});
   const Drive drv = stage_drive(x_k, u, mode, frame, g_W, DiscreteNoise{});
@@ -142,6 +144,13 @@ void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuSt
       Phi.block<3, 3>(ix::kP, ix::kFdot) = simpson_p(dt, Ms0, Ms1);
       Phi.block<3, 3>(ix::kF, ix::kFdot) = I3 * dt;
     }
+    if (layout.thrust_scale) {
+      // Stage i's drive is s T_m,i, turned by R_k dR_i: d f_i / d s = R_k dR_i T_m,i.
+      const Vector3d T[3] = {u.drive0, 0.5 * (u.drive0 + u.drive1), u.drive1};
+      const int is = layout.thrust_scale_index();
+      Phi.block<3, 1>(ix::kV, is) = simpson_v(dt, Vector3d(Ba[0] * T[0]), Vector3d(Ba[1] * T[1]), Vector3d(Ba[2] * T[2]));
+      Phi.block<3, 1>(ix::kP, is) = simpson_p(dt, Vector3d(Ba[0] * T[0]), Vector3d(Ba[1] * T[1]));
+    }
   } else {
     Phi.block<3, 3>(ix::kV, ix::kBa) = -v_a;
     Phi.block<3, 3>(ix::kP, ix::kBa) = -p_a;
@@ -161,13 +170,15 @@ void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuSt
   G.block<3, 3>(ix::kBa, noise_idx::kWa).setIdentity();
   if (dyn) G.block<3, 3>(ix::kF, noise_idx::kWF).setIdentity();
   if (rate) G.block<3, 3>(ix::kFdot, noise_idx::kWFd).setIdentity();
+  if (layout.thrust_scale) G(layout.thrust_scale_index(), nn - 1) = 1.0;
 }
 
 Eigen::VectorXd discrete_noise_variances(const EstimatorParams& p, double dt, double noise_scale,
                                          double thrust_noise_scale) {
-  const bool dyn = p.mode == PropagationMode::kDynamics;
-  const bool rate = dyn && p.force_rate_random_walk > 0.0;
-  Eigen::VectorXd q(dyn ? (rate ? 18 : 15) : 12);
+  const ImuLayout layout = ImuLayout::from(p);
+  const bool dyn = layout.force;
+  const bool rate = layout.force_rate;
+  Eigen::VectorXd q(layout.noise_dim());
   const double s2 = noise_scale * noise_scale;
   // Held white noise of density sigma over dt has variance sigma^2 / dt.
   q.segment<3>(noise_idx::kNg).setConstant(s2 * p.gyro_noise_density * p.gyro_noise_density / dt);
@@ -180,6 +191,7 @@ Eigen::VectorXd discrete_noise_variances(const EstimatorParams& p, double dt, do
   if (rate) {
     q.segment<3>(noise_idx::kWFd).setConstant(p.force_rate_random_walk * p.force_rate_random_walk * dt);
   }
+  if (layout.thrust_scale) q(q.size() - 1) = p.thrust_scale_random_walk * p.thrust_scale_random_walk * dt;
   return q;
 }
 
@@ -191,7 +203,7 @@ void propagate(FilterState& state, const ImuInterval& u, const EstimatorParams& 
   const ImuState x_k1 = propagate_mean(x_k, u, params.mode, g_W, DiscreteNoise{}, state.force_frame());
   Eigen::MatrixXd Phi, G;
   propagation_jacobians(x_k, state.imu_fej(), x_k1, u, params.mode, g_W, &Phi, &G, state.force_frame(),
-                        state.with_force_rate());
+                        state.with_force_rate(), state.with_thrust_scale());
   const Eigen::VectorXd q = discrete_noise_variances(params, u.dt, noise_scale, thrust_noise_scale);
 
   // IMU block and its cross-covariances with everything else (clones, calibration).

@@ -24,12 +24,23 @@ void set_force_from_body(ImuState& x, ForceFrame frame, const Eigen::Vector3d& F
   x.F_ext = frame == ForceFrame::kBody ? F_I : Eigen::Vector3d(x.T_WI.q * F_I);
 }
 
+ImuLayout ImuLayout::from(const EstimatorParams& p) {
+  ImuLayout l;
+  l.force = p.mode == PropagationMode::kDynamics;
+  l.force_rate = l.force && p.force_rate_random_walk > 0.0;
+  l.thrust_scale = l.force && p.thrust_scale_random_walk > 0.0;
+  return l;
+}
+
 FilterState::FilterState(const EstimatorParams& params)
     : FilterState(params.mode == PropagationMode::kDynamics, params.force_frame,
-                  params.force_rate_random_walk > 0.0) {}
+                  params.force_rate_random_walk > 0.0, params.thrust_scale_random_walk > 0.0) {}
 
-FilterState::FilterState(bool with_force, ForceFrame force_frame, bool with_force_rate)
-    : with_force_(with_force), force_frame_(force_frame), with_force_rate_(with_force && with_force_rate) {
+FilterState::FilterState(bool with_force, ForceFrame force_frame, bool with_force_rate, bool with_thrust_scale)
+    : with_force_(with_force),
+      force_frame_(force_frame),
+      with_force_rate_(with_force && with_force_rate),
+      layout_{with_force, with_force && with_force_rate, with_force && with_thrust_scale} {
   P_ = Eigen::MatrixXd::Identity(imu_dim(), imu_dim());
 }
 
@@ -43,6 +54,7 @@ void FilterState::initialize(TimeNs t_ns, const ImuState& imu, const Eigen::Matr
   imu_.T_WI.q = so3::normalized(imu.T_WI.q);
   if (!with_force_) imu_.F_ext.setZero();
   if (!with_force_rate_) imu_.F_dot.setZero();
+  if (!layout_.thrust_scale) imu_.thrust_scale = 1.0;
   calib_.clear();
   clones_.clear();
   force_clones_.clear();
@@ -132,6 +144,7 @@ void FilterState::apply_correction(const Eigen::VectorXd& dx) {
   imu_.b_a += dx.segment<3>(imu_idx::kBa);
   if (with_force_) imu_.F_ext += dx.segment<3>(imu_idx::kF);
   if (with_force_rate_) imu_.F_dot += dx.segment<3>(imu_idx::kFdot);
+  if (layout_.thrust_scale) imu_.thrust_scale += dx(layout_.thrust_scale_index());
   for (CalibPose& c : calib_) {
     c.T.q = so3::boxplus(c.T.q, dx.segment<3>(c.cov_index));
     c.T.p += dx.segment<3>(c.cov_index + 3);

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "vio_core/measurements.h"
@@ -23,6 +24,8 @@ struct EstimateRow {
   Eigen::Vector3d F_ext_I = Eigen::Vector3d::Zero();  ///< mass-normalized, body [m/s^2]
   /// 1-sigma of [dtheta(3), dp(3), dv(3), db_g(3), db_a(3), dF_I(3)]; F is 0 in imu mode
   Eigen::Matrix<double, 18, 1> sigma = Eigen::Matrix<double, 18, 1>::Zero();
+  double thrust_scale = 1.0;        ///< s of a = s T_m + F_ext + b_a (1 when not estimated)
+  double sigma_thrust_scale = 0.0;  ///< its 1-sigma (0 when not estimated)
 };
 
 /// @brief One line of trajectory_tum.txt: "t tx ty tz qx qy qz qw", t in seconds with 9
@@ -57,18 +60,23 @@ class FlushedFile {
   std::FILE* f_ = nullptr;
 };
 
-/// @brief trajectory_tum.txt, state.csv, force.csv and timing.csv in one output folder.
+/// @brief trajectory_tum.txt, state.csv, force.csv and timing.csv in one output folder, and
+/// mass.csv when the thrust scale is estimated.
 class RunOutputs {
  public:
   /// @param write_force  false in imu mode (force.csv then holds only its header)
-  RunOutputs(const std::filesystem::path& out_dir, bool write_force);
+  /// @param mass_kg  the calibration's mass m0 when the thrust scale s is estimated: mass.csv
+  /// then holds s and the mass it implies, m = m0 / s (README "Mass state")
+  RunOutputs(const std::filesystem::path& out_dir, bool write_force, std::optional<double> mass_kg = std::nullopt);
   void write_estimate(const EstimateRow& row);
   void write_timing(const TimingRow& row);
   void close();
 
  private:
   bool write_force_;
+  std::optional<double> mass_kg_;
   FlushedFile tum_, state_, force_, timing_;
+  std::optional<FlushedFile> mass_;
 };
 
 /// @brief trajectory_smoothed_tum.txt and force_smoothed.csv (fixed-lag smoothed estimates,
@@ -90,6 +98,11 @@ std::string force_csv_line(const EstimateRow& row);
 std::string state_csv_header();
 /// @brief Header line of force.csv.
 std::string force_csv_header();
+/// @brief Header line of mass.csv.
+std::string mass_csv_header();
+/// @brief One line of mass.csv: m = m0 / s and sigma_m = m0 sigma_s / s^2 (the thrust scale s
+/// with the calibration's mass m0).
+std::string mass_csv_line(const EstimateRow& row, double mass_kg);
 /// @brief Header line of timing.csv.
 std::string timing_csv_header();
 /// @brief Header line of tracks.csv (vid_track's output, vid_eval.formats.TRACKS_COLUMNS).

@@ -2,7 +2,8 @@
 /// @file ekf_update.h
 /// @brief EKF measurement updates on FilterState: a generic update (H, r, R) that exploits
 /// H's column sparsity, and the accelerometer update of dynamics mode
-/// (a_m = T_m + F_ext + b_a + n_a; H touches only the b_a and F_ext columns, O(n^2)).
+/// (a_m = s T_m + F_ext + b_a + n_a; H touches only the b_a and F_ext columns, and the thrust
+/// scale s when it is estimated, O(n^2)).
 
 #include <Eigen/Core>
 #include <vector>
@@ -31,8 +32,8 @@ UpdateResult ekf_update_columns(FilterState& state, const std::vector<int>& cols
                                 const Eigen::MatrixXd& H_cols, const Eigen::VectorXd& r,
                                 const Eigen::MatrixXd& R, double chi2_threshold = 0.0);
 
-/// @brief Predicted accelerometer reading of dynamics mode (seed eq. 58): T_m + F_I + b_a, with
-/// F_I = R_WI^T F_W in the world-frame force model.
+/// @brief Predicted accelerometer reading of dynamics mode (seed eq. 58): s T_m + F_I + b_a, with
+/// F_I = R_WI^T F_W in the world-frame force model and s = x.thrust_scale (1 when not estimated).
 Eigen::Vector3d predict_accel(const ImuState& x, const Eigen::Vector3d& T_m,
                               ForceFrame frame = ForceFrame::kBody);
 

@@ -65,6 +65,10 @@ struct EstimatorParams {
   /// > 0 adds the force rate dF_ext/dt to the state, driven by this random walk
   /// [m/s^4/sqrt(Hz)] (integrated random walk: ramps are followed without lag); 0 = off.
   double force_rate_random_walk = 0.3;
+  /// > 0 adds the thrust scale s to the state (a = s T_m + F_ext + b_a: s = m0 k / (m k0), a
+  /// payload picked up or dropped, or a thrust coefficient off; mass and coefficient scale are
+  /// one observable), driven by this random walk [1/sqrt(s)]; 0 = off. README "Mass state".
+  double thrust_scale_random_walk = 0.0;
   double rotor_gap_s = 0.05;             ///< no rotor sample for longer -> hold last thrust
   double rotor_gap_noise_scale = 10.0;   ///< thrust noise multiplier while holding
 
@@ -168,6 +172,7 @@ struct EstimatorParams {
   double init_sigma_accel_bias = 0.1;    ///< [m/s^2]
   double init_sigma_force = 0.5;         ///< [m/s^2]
   double init_sigma_force_rate = 0.5;    ///< [m/s^3] (with force_rate_random_walk > 0)
+  double init_sigma_thrust_scale = 0.3;  ///< [-] (with thrust_scale_random_walk > 0)
 
   // --- divergence detection ---
   double max_velocity = 50.0;            ///< |v| above this [m/s] -> diverged

@@ -66,6 +66,7 @@ struct EstimateOutput {
   /// the orientation uncertainty included.
   Eigen::Vector3d F_ext_I, F_ext_W;
   Eigen::Matrix3d cov_F_I, cov_F_W;
+  double sigma_thrust_scale = 0.0;  ///< 1-sigma of x.thrust_scale (0 when it is not estimated)
   FilterStatus status = FilterStatus::kOk;
   FlightPhase phase = FlightPhase::kUnknown;  ///< landed / airborne (dynamics mode; flight_phase.h)
 };

@@ -40,9 +40,11 @@ struct DiscreteNoise {
   Eigen::Vector3d w_a = Eigen::Vector3d::Zero();
   Eigen::Vector3d w_F = Eigen::Vector3d::Zero();
   Eigen::Vector3d w_Fd = Eigen::Vector3d::Zero();  ///< force-rate random-walk increment
+  double w_s = 0.0;  ///< thrust-scale random-walk increment
 };
 
-/// @brief Column offsets of the noise vector [n_g, n_a, w_g, w_a, (w_F), (w_Fd)].
+/// @brief Column offsets of the noise vector [n_g, n_a, w_g, w_a, (w_F), (w_Fd), (w_s)]; w_s is
+/// last (ImuLayout::noise_dim() - 1).
 namespace noise_idx {
 constexpr int kNg = 0;
 constexpr int kNa = 3;
@@ -53,20 +55,22 @@ constexpr int kWFd = 15;
 }  // namespace noise_idx
 
 /// @brief Propagate the IMU mean over one interval (with optional noise, for testing).
-/// In dynamics mode v' = R_WI (T_m + F_I) + g (body-frame force) or R_WI T_m + F_W + g
-/// (world-frame force).
+/// In dynamics mode v' = R_WI (s T_m + F_I) + g (body-frame force) or R_WI s T_m + F_W + g
+/// (world-frame force), with the thrust scale s = x.thrust_scale (1 when it is not estimated).
 ImuState propagate_mean(const ImuState& x, const ImuInterval& u, PropagationMode mode,
                         const Eigen::Vector3d& g_W, const DiscreteNoise& noise = {},
                         ForceFrame frame = ForceFrame::kBody);
 
-/// @brief Phi (d x d) and G (d x nn), d = 15 / 18 / 21, nn = 12 / 15 / 18 (imu / dynamics /
-/// dynamics with the force-rate state).
+/// @brief Phi (d x d) and G (d x nn), d = ImuLayout::dim(), nn = ImuLayout::noise_dim() (15 / 18
+/// / 21 and 12 / 15 / 18 for imu / dynamics / dynamics with the force-rate state, one more each
+/// with the thrust scale).
 /// x_k: current estimate at t_k; fej_k: its first estimates; x_k1: propagate_mean(x_k, u).
 /// With fej_k equal to x_k these are the exact Jacobians of propagate_mean.
 void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuState& x_k1,
                            const ImuInterval& u, PropagationMode mode, const Eigen::Vector3d& g_W,
                            Eigen::MatrixXd* Phi, Eigen::MatrixXd* G,
-                           ForceFrame frame = ForceFrame::kBody, bool force_rate = false);
+                           ForceFrame frame = ForceFrame::kBody, bool force_rate = false,
+                           bool thrust_scale = false);
 
 /// @brief Diagonal covariance of DiscreteNoise for an interval of length dt.
 /// noise_scale multiplies the measurement noises (gaps); thrust noise replaces accel noise in

