@@ -1,7 +1,8 @@
 """The mass state in the VIO (issue #21, README "Mass state"): with the thrust scale estimated and
 a slow external-force model, a payload picked up and dropped in flight (vid_loaded: +0.6 kg on
 3.1 kg at 25 s, off again at 45 s) and a continuous loss (spraying) are identified from camera,
-IMU and rotor speeds alone; seeds 1-3, feature-level, random initial heading."""
+IMU and rotor speeds alone; seeds 1-3, feature-level, random initial heading. payload_heavy
+(1.2 kg, 39 %) is the case not yet met (strict xfail)."""
 import shutil
 
 import numpy as np
@@ -89,6 +90,15 @@ def test_mass_sigma_is_the_right_size(configs, tmp_path_factory):
         per_run.append((r.err[i] / r.est.sigma[i]) ** 2)
     nees = np.mean(per_run, axis=0)
     assert 0.5 <= nees.mean() <= 2.0, f"mass NEES mean {nees.mean():.2f}"
+
+
+@pytest.mark.xfail(strict=True, reason="issue #21: 3.5 % RMSPE after 5 s (target 3 %) on the 1.2 kg payload "
+                                       "(the force-jump prior splits the step evenly between F and s)")
+def test_heavy_payload_meets_the_targets(configs, tmp_path_factory):
+    m = run(configs, tmp_path_factory, "payload_heavy", 1, "mass")["mass"]
+    events = m.as_dict()["settle_5pct"]
+    assert m.rmspe <= 3.0 and all(e["settle_s"] is not None and e["settle_s"] <= 2.0 for e in events), \
+        (m.rmspe, events)
 
 
 def test_continuous_mass_loss(configs, tmp_path_factory):
