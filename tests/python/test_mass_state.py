@@ -112,6 +112,19 @@ def test_no_mass_file_without_the_state(configs, tmp_path_factory):
     assert not (r["out"] / "mass.csv").exists()
 
 
+def test_fast_force_model_with_the_mass_state_is_warned(configs, tmp_path_factory):
+    """The confounded combination (README "Mass state") runs, with one warning line that says why."""
+    cfg = tmp_path_factory.mktemp("cfg") / "fast"
+    shutil.copytree(REPO / "config" / "sim", cfg)
+    with open(cfg / "estimator.yaml", "a") as f:
+        f.write("thrust_scale_random_walk: 0.02\n")
+    seq = simulate_cached("vid_loaded.yaml", 60.0, 1, features_only=True)
+    r = vid_run(seq, tmp_path_factory.mktemp("fast_out"), "--config", str(cfg), "--end", "3")
+    assert r.returncode == 0, r.stderr
+    lines = [ln for ln in r.stderr.splitlines() if "not separable" in ln]
+    assert len(lines) == 1 and "force_rate_random_walk: 0" in lines[0], r.stderr
+
+
 def test_settle_times_of_a_synthetic_step():
     t = np.arange(0.0, 10.0, 0.01)
     m = np.where(t < 4.0, 2.0, 2.5)
