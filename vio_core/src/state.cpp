@@ -37,9 +37,7 @@ FilterState::FilterState(const EstimatorParams& params)
                   params.force_rate_random_walk > 0.0, params.thrust_scale_random_walk > 0.0) {}
 
 FilterState::FilterState(bool with_force, ForceFrame force_frame, bool with_force_rate, bool with_thrust_scale)
-    : with_force_(with_force),
-      force_frame_(force_frame),
-      with_force_rate_(with_force && with_force_rate),
+    : force_frame_(force_frame),
       layout_{with_force, with_force && with_force_rate, with_force && with_thrust_scale} {
   P_ = Eigen::MatrixXd::Identity(imu_dim(), imu_dim());
 }
@@ -52,8 +50,8 @@ void FilterState::initialize(TimeNs t_ns, const ImuState& imu, const Eigen::Matr
   t_ns_ = t_ns;
   imu_ = imu;
   imu_.T_WI.q = so3::normalized(imu.T_WI.q);
-  if (!with_force_) imu_.F_ext.setZero();
-  if (!with_force_rate_) imu_.F_dot.setZero();
+  if (!layout_.force) imu_.F_ext.setZero();
+  if (!layout_.force_rate) imu_.F_dot.setZero();
   if (!layout_.thrust_scale) imu_.thrust_scale = 1.0;
   calib_.clear();
   clones_.clear();
@@ -85,7 +83,7 @@ void FilterState::marginalize_oldest_clone() {
 }
 
 void FilterState::augment_force_clone() {
-  if (!with_force_) throw std::logic_error("FilterState::augment_force_clone needs the F_ext state");
+  if (!layout_.force) throw std::logic_error("FilterState::augment_force_clone needs the F_ext state");
   const int n = covariance::append_clone(P_, imu_idx::kF, 3);  // x_aug = [x; J x], J selects dF_ext (README eq. S1)
   ForceClone c;
   c.t_ns = t_ns_;
@@ -142,8 +140,8 @@ void FilterState::apply_correction(const Eigen::VectorXd& dx) {
   imu_.v_WI += dx.segment<3>(imu_idx::kV);
   imu_.b_g += dx.segment<3>(imu_idx::kBg);
   imu_.b_a += dx.segment<3>(imu_idx::kBa);
-  if (with_force_) imu_.F_ext += dx.segment<3>(imu_idx::kF);
-  if (with_force_rate_) imu_.F_dot += dx.segment<3>(imu_idx::kFdot);
+  if (layout_.force) imu_.F_ext += dx.segment<3>(imu_idx::kF);
+  if (layout_.force_rate) imu_.F_dot += dx.segment<3>(imu_idx::kFdot);
   if (layout_.thrust_scale) imu_.thrust_scale += dx(layout_.thrust_scale_index());
   for (CalibPose& c : calib_) {
     c.T.q = so3::boxplus(c.T.q, dx.segment<3>(c.cov_index));

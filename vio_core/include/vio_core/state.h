@@ -130,9 +130,9 @@ class FilterState {
   /// @brief Reset to one IMU block with the given mean and covariance (no clones, no calib).
   void initialize(TimeNs t_ns, const ImuState& imu, const Eigen::MatrixXd& P_imu);
 
-  bool with_force() const { return with_force_; }
+  bool with_force() const { return layout_.force; }
   ForceFrame force_frame() const { return force_frame_; }
-  bool with_force_rate() const { return with_force_rate_; }
+  bool with_force_rate() const { return layout_.force_rate; }
   bool with_thrust_scale() const { return layout_.thrust_scale; }
   const ImuLayout& layout() const { return layout_; }
   int imu_dim() const { return layout_.dim(); }
@@ -183,9 +183,7 @@ class FilterState {
   /// variable behind them.
   void remove_block(int at, int k);
 
-  bool with_force_;
   ForceFrame force_frame_;
-  bool with_force_rate_;
   ImuLayout layout_;
   TimeNs t_ns_ = 0;
   ImuState imu_;
