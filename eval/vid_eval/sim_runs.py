@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import os
 import pathlib
+import re
 import shutil
 import subprocess
 from typing import Mapping, Optional
@@ -65,7 +66,8 @@ def yaml_scalar(value: object) -> str:
 def config_with_overrides(src: pathlib.Path, overrides: Mapping[str, object],
                           dst: pathlib.Path) -> pathlib.Path:
     """``src`` (an estimator preset folder) if no overrides, else a copy in ``dst`` whose
-    estimator.yaml ends with the ``key: value`` overrides (later keys win in vid_run's YAML)."""
+    estimator.yaml has the ``key: value`` overrides: a top-level key already in the file is
+    replaced on its line, a new one appended (vid_run rejects a key given twice)."""
     if not overrides:
         return src
     shutil.rmtree(dst, ignore_errors=True)
@@ -73,7 +75,11 @@ def config_with_overrides(src: pathlib.Path, overrides: Mapping[str, object],
     est = dst / "estimator.yaml"
     text = est.read_text() if est.exists() else ""
     for key, value in overrides.items():
-        text += f"\n{str(key).strip()}: {yaml_scalar(value)}\n"
+        line = f"{str(key).strip()}: {yaml_scalar(value)}"
+        pattern = re.compile(rf"^{re.escape(str(key).strip())}\s*:.*$", re.MULTILINE)
+        text, replaced = pattern.subn(lambda _: line, text)
+        if not replaced:
+            text += f"\n{line}\n"
     est.write_text(text)
     return dst
 

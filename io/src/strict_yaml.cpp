@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace vid::io {
@@ -14,6 +15,28 @@ std::string scalar_text(const YAML::Node& n) {
   if (n.IsSequence()) return "a sequence";
   if (n.IsMap()) return "a mapping";
   return "nothing";
+}
+
+/// yaml-cpp accepts a key twice in one mapping and its lookups return the first value, so a
+/// setting appended to override an earlier one would be ignored without a word: reject it.
+void reject_duplicate_keys(const YAML::Node& node, const std::string& name) {
+  if (node.IsSequence()) {
+    for (const auto& child : node) reject_duplicate_keys(child, name);
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::map<std::string, int> first_line;
+  for (const auto& kv : node) {
+    if (kv.first.IsScalar()) {
+      const int line = kv.first.Mark().line + 1;
+      const auto [it, inserted] = first_line.emplace(kv.first.Scalar(), line);
+      if (!inserted) {
+        throw ConfigError(name + ":" + std::to_string(line) + ": key '" + kv.first.Scalar() +
+                          "': given twice (first at line " + std::to_string(it->second) + ")");
+      }
+    }
+    reject_duplicate_keys(kv.second, name);
+  }
 }
 
 }  // namespace
@@ -40,11 +63,14 @@ YAML::Node YamlMap::parse_string(const std::string& text_in, const std::string& 
     const std::size_t eol = text.find('\n');
     text = std::string("\n") + (eol == std::string::npos ? "" : text.substr(eol + 1));
   }
+  YAML::Node root;
   try {
-    return YAML::Load(text);
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw ConfigError(name + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
   }
+  reject_duplicate_keys(root, name);
+  return root;
 }
 
 YamlMap YamlMap::load_file(const std::filesystem::path& path) {

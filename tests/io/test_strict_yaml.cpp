@@ -30,6 +30,17 @@ TEST(StrictYaml, U64VectorsAndStrings) {
   EXPECT_EQ(y.first_unknown(), std::nullopt);
 }
 
+TEST(StrictYaml, AKeyGivenTwiceIsAnError) {
+  // yaml-cpp keeps the first of two equal keys; an override appended to a file would be ignored.
+  EXPECT_EQ(config_error([] { YamlMap::load_string("a: 1\nb: 2\na: 3\n", "d.yaml"); }),
+            "d.yaml:3: key 'a': given twice (first at line 1)");
+  EXPECT_EQ(config_error([] { YamlMap::load_string("m:\n  x: 1\n  x: 2\n", "n.yaml"); }),
+            "n.yaml:3: key 'x': given twice (first at line 2)");
+  EXPECT_EQ(config_error([] { YamlMap::load_string("l:\n  - {x: 1, x: 2}\n", "s.yaml"); }),
+            "s.yaml:2: key 'x': given twice (first at line 2)");
+  EXPECT_EQ(YamlMap::load_string("m: {x: 1}\nn: {x: 2}\n", "ok.yaml").get_map("n").get_int("x"), 2);
+}
+
 TEST(StrictYaml, ListsOfMapsNameTheirIndex) {
   const YamlMap y = YamlMap::load_string("runs:\n  - {a: 1}\n  - {a: x}\nnot_list: 3\n", "l.yaml");
   const std::vector<YamlMap> runs = y.get_maps("runs");

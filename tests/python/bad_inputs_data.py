@@ -178,6 +178,10 @@ def _edit_yaml(path: pathlib.Path, fault: str, key: str):
         new = "\n".join(f"{key}: abc" if line.startswith(key + ":") else line for line in text.splitlines()) + "\n"
     elif fault == "unknown key":
         new = text + "\nno_such_key: 1\n"
+    elif fault == "key given twice":  # appended as an override; yaml-cpp alone would keep the first
+        top_level = [line for line in text.splitlines() if line[:1].isalpha() and ":" in line]
+        first = next(line for line in top_level if not key or line.startswith(key + ":"))
+        new = text + "\n" + first + "\n"
     else:
         raise ValueError(fault)
     replace_file(path, new.encode())
@@ -185,7 +189,7 @@ def _edit_yaml(path: pathlib.Path, fault: str, key: str):
 
 SENSOR_YAML = {"imu0/sensor.yaml": "gyroscope_noise_density", "cam0/sensor.yaml": "intrinsics",
                "rotor0/sensor.yaml": "count", "vehicle.yaml": "mass_kg"}
-YAML_FAULTS = ["not YAML", "empty file", "missing key", "text for a number", "unknown key"]
+YAML_FAULTS = ["not YAML", "empty file", "missing key", "text for a number", "unknown key", "key given twice"]
 
 
 def yaml_case(rel: str, fault: str) -> Case:
@@ -216,7 +220,8 @@ def preset_case(fault: str) -> Case:
 
 def yaml_cases() -> list:
     cases = [yaml_case(rel, f) for rel in SENSOR_YAML for f in YAML_FAULTS]
-    cases += [preset_case(f) for f in ("missing file", "not YAML", "unknown key", "text for a number")]
+    cases += [preset_case(f) for f in ("missing file", "not YAML", "unknown key", "text for a number",
+                                              "key given twice")]
     return cases
 
 

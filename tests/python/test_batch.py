@@ -4,6 +4,7 @@ monolithic programs; bad batch files fail with one line. Ray is required (no ski
 import json
 import os
 import pathlib
+import re
 import signal
 import subprocess
 import sys
@@ -103,12 +104,20 @@ def test_batch_equals_runs_one_by_one(killed_and_resumed, tmp_path):
         for f in (REPO / "config" / "sim").iterdir():
             if f.is_file():
                 (cfg / f.name).write_bytes(f.read_bytes())
-        with open(cfg / "estimator.yaml", "a") as f:
-            f.write(f"\nforce_random_walk: {row['param.force_random_walk']}\n")
+        est = cfg / "estimator.yaml"
+        text, n = re.subn(r"(?m)^force_random_walk:.*$", f"force_random_walk: {row['param.force_random_walk']}",
+                          est.read_text())
+        assert n == 1
+        est.write_text(text)
         run = tmp_path / f"run_{rid}"
         subprocess.run([bindir / "vid_run", "--dataset", seq, "--out", run, "--config", cfg, "--mode", "dynamics",
                         "--quiet", "--decode-threads", "0"], check=True, capture_output=True)
         summary = json.loads((run / "summary.json").read_text())
+        # The swept value reached the estimator (an appended duplicate key once did not).
+        batch_summary = json.loads((pathlib.Path(row["output"]) / "summary.json").read_text())
+        for used in (summary, batch_summary):
+            value = re.search(r"(?m)^force_random_walk: (\S+)$", used["config"]).group(1)
+            assert float(value) == row["param.force_random_walk"]
         assert row["ate_m"] == summary["ate_posyaw_m"]
         assert row["force_rmse_world"] == summary["force_rmse_world_mps2"]
         assert (run / "trajectory_tum.txt").read_bytes() == (pathlib.Path(row["output"]) / "trajectory_tum.txt").read_bytes()

@@ -37,7 +37,8 @@ class YamlMap {
   static YamlMap from_node(const YAML::Node& node, const std::string& file, const std::string& prefix);
   /// @brief Parse a whole file into a node (same syntax-error messages as load_file).
   static YAML::Node parse_file(const std::filesystem::path& path);
-  /// @brief Parse text into a node; @p name stands for the file in messages.
+  /// @brief Parse text into a node; @p name stands for the file in messages. A key given twice
+  /// in one mapping is an error naming its line (yaml-cpp would silently keep the first).
   static YAML::Node parse_string(const std::string& text, const std::string& name);
 
   /// @brief True if the key exists with a non-empty value (does not consume it).
