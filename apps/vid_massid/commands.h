@@ -16,5 +16,8 @@ void add_generate_command(CLI::App& cli, int* exit_code);
 void add_run_report_commands(CLI::App& cli, int* exit_code);
 /// @brief `elm-study`: the seed's tables 1-3 (hidden nodes, lambda, training sets).
 void add_elm_study_command(CLI::App& cli, int* exit_code);
+/// @brief `from-sequence`: simulated VID sequence folders as a study dataset (same mass profiles
+/// for the study's methods and the VIO).
+void add_from_sequence_command(CLI::App& cli, int* exit_code);
 
 }  // namespace vid::massid_app

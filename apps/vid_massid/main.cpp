@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     vid::massid_app::add_generate_command(cli, &exit_code);
     vid::massid_app::add_run_report_commands(cli, &exit_code);
     vid::massid_app::add_elm_study_command(cli, &exit_code);
+    vid::massid_app::add_from_sequence_command(cli, &exit_code);
     if (const auto code = vid::app::parse_cli(cli, argc, argv)) return *code;
     return exit_code;
   });
