@@ -73,12 +73,8 @@ def test_mass_state_keeps_pose_and_force(configs, tmp_path_factory, seed):
     assert with_mass["force_rmse_world_mps2"] < 0.3
 
 
-def test_mass_sigma_is_the_right_size(configs, tmp_path_factory):
-    """Monte-Carlo NEES of the mass over the three seeds at common times: its mean is near 1
-    (measured 0.93 with thrust_scale_random_walk 0.02). Not yet the issue's criterion (inside
-    the 95 % band of chi2(3)/3 >= 90 % of the time): measured 82 %, conservative in the hover
-    before the payload (sigma grows with the random walk while s and the vertical force are
-    confounded) and overconfident for ~1 s at each step (README "Mass state")."""
+def _mass_nees(configs, tmp_path_factory) -> np.ndarray:
+    """Run-averaged NEES of the mass over the seeds, at the times all runs share."""
     runs = [run(configs, tmp_path_factory, "vid_loaded", s, "mass")["mass"] for s in SEEDS]
     common = runs[0].est.t_ns
     for r in runs[1:]:
@@ -88,8 +84,25 @@ def test_mass_sigma_is_the_right_size(configs, tmp_path_factory):
     for r in runs:
         i = np.searchsorted(r.est.t_ns, common)
         per_run.append((r.err[i] / r.est.sigma[i]) ** 2)
-    nees = np.mean(per_run, axis=0)
+    return np.mean(per_run, axis=0)
+
+
+def test_mass_sigma_is_the_right_size(configs, tmp_path_factory):
+    """Monte-Carlo NEES of the mass over the three seeds at common times: its mean is near 1
+    (measured 0.93 with thrust_scale_random_walk 0.02)."""
+    nees = _mass_nees(configs, tmp_path_factory)
     assert 0.5 <= nees.mean() <= 2.0, f"mass NEES mean {nees.mean():.2f}"
+
+
+@pytest.mark.xfail(strict=True, reason="issue #21: in band 82 % (target 90 %): the sigma stays wider than the "
+                                       "error after each step while s and F share it (README 'Mass state')")
+def test_mass_nees_in_band(configs, tmp_path_factory):
+    """The issue's criterion: inside the 95 % band of chi2(3)/3 >= 90 % of the time."""
+    from scipy.stats import chi2
+    nees = _mass_nees(configs, tmp_path_factory)
+    n = len(SEEDS)
+    inside = np.mean((nees > chi2.ppf(0.025, n) / n) & (nees < chi2.ppf(0.975, n) / n))
+    assert inside >= 0.9, f"mass NEES in band {100 * inside:.0f} % of the time"
 
 
 @pytest.mark.xfail(strict=True, reason="issue #21: 3.5 % RMSPE after 5 s (target 3 %) on the 1.2 kg payload "
