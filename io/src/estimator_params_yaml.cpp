@@ -70,6 +70,7 @@ const DoubleField kDoubles[] = {
     VID_FIELD(init_sigma_force),
     VID_FIELD(init_sigma_force_rate),
     VID_FIELD(init_sigma_thrust_scale),
+    VID_FIELD(init_sigma_time_offset),
     VID_FIELD(max_velocity),
     VID_FIELD(max_position_sigma),
 };
@@ -129,6 +130,8 @@ EstimatorParams from_map(const YamlMap& y) {
   if (!(p.airborne_weight_fraction >= 0.0 && p.airborne_weight_fraction < p.landed_weight_fraction))
     y.fail("airborne_weight_fraction", "must be >= 0 and below landed_weight_fraction");
   if (!(p.flight_phase_hold_s >= 0.0)) y.fail("flight_phase_hold_s", "must be >= 0");
+  if (!(p.init_sigma_time_offset >= 0.0 && p.init_sigma_time_offset <= 1.0))
+    y.fail("init_sigma_time_offset", "must be in [0, 1] s");
   y.check_unknown();
   return p;
 }

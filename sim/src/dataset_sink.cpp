@@ -48,6 +48,19 @@ void DatasetSink::on_phase(const PhaseSample& s) {
   if (!phase_) throw io::DatasetError((writer_.mav0() / "phase0" / "data.csv").string() + ": write failed");
 }
 
+void DatasetSink::on_time_offset(TimeNs t_ns, double offset_s) {
+  const std::filesystem::path file = writer_.mav0() / "time_offset0" / "data.csv";
+  if (!time_offset_.is_open()) {
+    std::filesystem::create_directories(file.parent_path());
+    time_offset_.open(file);
+    if (!time_offset_) throw io::DatasetError(file.string() + ": cannot create");
+    time_offset_ << "#timestamp [ns],time_offset [s]\n";
+    time_offset_.precision(17);
+  }
+  time_offset_ << t_ns << ',' << offset_s << '\n';
+  if (!time_offset_) throw io::DatasetError(file.string() + ": write failed");
+}
+
 void DatasetSink::on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI) {
   if (visual_) visual_->on_camera(t_ns, frame_index, T_WI, writer_);
   ++frames_;
@@ -59,6 +72,7 @@ void DatasetSink::finish() {
   if (visual_) visual_->finish(writer_, R_GS_);
   writer_.close();
   if (phase_.is_open()) phase_.close();
+  if (time_offset_.is_open()) time_offset_.close();
 }
 
 }  // namespace vid::sim

@@ -285,6 +285,11 @@ void parse_sensors(const io::YamlMap& root, Scenario* s) {
     s->cameras.rate_hz = c.get_double("rate_hz", 30.0);
     s->cameras.images = c.get_bool("images", true);
     s->cameras.features = c.get_bool("features", true);
+    s->cameras.time_offset_s = c.get_double("time_offset_s", 0.0);
+    s->cameras.time_offset_jitter_s = c.get_double("time_offset_jitter_s", 0.0);
+    if (!(std::abs(s->cameras.time_offset_s) <= 0.1)) c.fail("time_offset_s", "must be within +-0.1 s");
+    if (!(s->cameras.time_offset_jitter_s >= 0.0 && s->cameras.time_offset_jitter_s <= 0.002))
+      c.fail("time_offset_jitter_s", "must be in [0, 0.002] s (3 sigma stays below a sixth of a 30 Hz frame period)");
     int id = 0;
     for (const io::YamlMap& k : c.get_maps("list")) {
       CameraCalib cal;

@@ -1,5 +1,6 @@
 #include "sim/simulator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -29,7 +30,8 @@ class Schedule {
   std::uint64_t k_ = 0;
 };
 
-constexpr std::uint64_t kImuStream = 1, kRotorStream = 2, kEnvStream = 3, kHeadingStream = 4;
+constexpr std::uint64_t kImuStream = 1, kRotorStream = 2, kEnvStream = 3, kHeadingStream = 4,
+                        kCameraClockStream = 6;
 
 /// @brief Yaw of R_WI [rad] (heading of the body x-axis about z).
 double yaw_of(const Eigen::Quaterniond& q_WI) {
@@ -152,6 +154,9 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
   std::optional<TakeoffLandingPilot> pilot;
   if (plan_) pilot.emplace(sc.takeoff_landing, *plan_, control_model());
   const double stop_speed = kRotorStopFraction * control_model().params().rotor_speed_min;
+  // Camera clock: stamp = IMU-clock time of the image - (offset + jitter).
+  const bool camera_offset = sc.cameras.time_offset_s != 0.0 || sc.cameras.time_offset_jitter_s > 0.0;
+  Rng camera_clock(derive_seed(sc.seed, kCameraClockStream));
 
   dynamics::QuadrotorState x = initial_state();
   const bool ground = environment_->ground() != nullptr;
@@ -205,7 +210,15 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
       Eigen::Isometry3d T_WI = Eigen::Isometry3d::Identity();
       T_WI.linear() = R_WI;
       T_WI.translation() = x.p_WI;
-      sink.on_camera(t, cam_s.index(), T_WI);
+      if (camera_offset) {
+        const double jitter = sc.noise ? std::clamp(camera_clock.normal(), -3.0, 3.0) * sc.cameras.time_offset_jitter_s : 0.0;
+        const double offset_s = sc.cameras.time_offset_s + jitter;
+        const TimeNs stamp = t - static_cast<TimeNs>(std::llround(offset_s * 1e9));
+        sink.on_camera(stamp, cam_s.index(), T_WI);
+        sink.on_time_offset(stamp, offset_s);
+      } else {
+        sink.on_camera(t, cam_s.index(), T_WI);
+      }
       cam_s.advance();
     }
     if (ctrl_s.due(t)) {

@@ -72,7 +72,8 @@ std::string tracks_csv_row(TimeNs t_ns, const FeatureObservation& ob) {
   return fmt::format("{},{},{},{:.4f},{:.4f}", t_ns, ob.cam_id, ob.feature_id, ob.uv.x(), ob.uv.y());
 }
 
-RunOutputs::RunOutputs(const std::filesystem::path& out_dir, bool write_force, std::optional<double> mass_kg)
+RunOutputs::RunOutputs(const std::filesystem::path& out_dir, bool write_force, std::optional<double> mass_kg,
+                       bool time_offset)
     : write_force_(write_force),
       mass_kg_(mass_kg),
       tum_(out_dir / "trajectory_tum.txt"),
@@ -86,6 +87,10 @@ RunOutputs::RunOutputs(const std::filesystem::path& out_dir, bool write_force, s
   if (mass_kg_) {
     mass_.emplace(out_dir / "mass.csv");
     mass_->line(mass_csv_header());
+  }
+  if (time_offset) {
+    time_offset_.emplace(out_dir / "time_offset.csv");
+    time_offset_->line("#timestamp [ns],time_offset [s],sigma [s]");
   }
 }
 
@@ -112,6 +117,7 @@ void RunOutputs::write_estimate(const EstimateRow& r) {
   state_.line(row);
   if (write_force_) force_.line(force_csv_line(r));
   if (mass_) mass_->line(mass_csv_line(r, *mass_kg_));
+  if (time_offset_) time_offset_->line(fmt::format("{},{:.9g},{:.6g}", r.t_ns, r.time_offset_s, r.sigma_time_offset_s));
 }
 
 std::string force_csv_line(const EstimateRow& r) {
@@ -131,6 +137,7 @@ void RunOutputs::close() {
   force_.close();
   timing_.close();
   if (mass_) mass_->close();
+  if (time_offset_) time_offset_->close();
 }
 
 SmoothedOutputs::SmoothedOutputs(const std::filesystem::path& out_dir)

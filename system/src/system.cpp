@@ -49,6 +49,8 @@ EstimateRow to_row(const EstimateOutput& e) {
   if (n == 18) r.sigma.tail<3>() = e.cov_F_I.diagonal().cwiseMax(0.0).cwiseSqrt();
   r.thrust_scale = e.x.thrust_scale;
   r.sigma_thrust_scale = e.sigma_thrust_scale;
+  r.time_offset_s = e.time_offset_s;
+  r.sigma_time_offset_s = e.sigma_time_offset_s;
   return r;
 }
 
@@ -71,7 +73,8 @@ System::System(SystemParams params) : p_(std::move(params)), cpu_start_s_(proces
   }
   if (p_.out_dir) {
     const bool mass_state = dynamics() && ep.thrust_scale_random_walk > 0.0 && p_.config.vehicle;
-    outputs_.emplace(*p_.out_dir, dynamics(), mass_state ? std::optional<double>(p_.config.vehicle->mass_kg) : std::nullopt);
+    outputs_.emplace(*p_.out_dir, dynamics(), mass_state ? std::optional<double>(p_.config.vehicle->mass_kg) : std::nullopt,
+                     ep.init_sigma_time_offset > 0.0);
   }
   image_bits_.fill(p_.config.frontend.image_bit_depth);
   if (p_.write_tracks && p_.out_dir && frontend_) {  // once: a re-initialization keeps the file

@@ -124,6 +124,17 @@ TEST(Covariance, AppendCloneIsStochasticCloning) {
   EXPECT_EQ(P, J * P0 * J.transpose());
 }
 
+TEST(Covariance, AddScaledIsTheChangeOfVariables) {
+  const Eigen::MatrixXd P0 = random_spd(10, 47);
+  Eigen::MatrixXd P = P0;
+  Eigen::VectorXd g(3);
+  g << 0.5, -2.0, 3.0;
+  vid::covariance::add_scaled(P, 4, g, 8);  // x_4..6 += g x_8
+  Eigen::MatrixXd T = Eigen::MatrixXd::Identity(10, 10);
+  T.block(4, 8, 3, 1) = g;
+  EXPECT_LT((P - T * P0 * T.transpose()).norm(), 1e-14 * P0.norm());
+}
+
 TEST(Covariance, CloneIntoPreallocatedEqualsAppend) {
   const Eigen::MatrixXd P0 = random_spd(10, 51);
   Eigen::MatrixXd grown = P0;

@@ -54,6 +54,39 @@ TEST(FilterState, AugmentationCopiesImuPoseBlock) {
   EXPECT_LT((s.P() - J * P0 * J.transpose()).norm(), 1e-15);
 }
 
+TEST(FilterState, CloneAtAnUncertainTimeCarriesTheTimeOffset) {
+  // With t_d in the state the clone is the pose at t + dt_d: its error is the IMU pose's plus
+  // [w_I; v_WI] dt_d, and a correction of t_d moves it through that correlation.
+  FilterState s = make_state(true);
+  s.imu().v_WI = Vector3d(1.0, -0.5, 0.2);
+  s.add_time_offset(0.004, 0.01);
+  ASSERT_TRUE(s.time_offset().has_value());
+  EXPECT_EQ(s.time_offset()->cov_index, 18);
+  EXPECT_DOUBLE_EQ(s.time_offset_or(0.0), 0.004);
+  const MatrixXd P0 = s.P();
+  const Vector3d w(0.3, -2.0, 0.7);
+  s.augment_clone(w);
+  ASSERT_EQ(s.dim(), 25);
+  EXPECT_EQ(s.clones().back().cov_index, 19);
+  MatrixXd J = MatrixXd::Zero(25, 19);
+  J.topRows(19).setIdentity();
+  J.block(19, 0, 6, 6).setIdentity();
+  J.block(19, 18, 3, 1) = w;
+  J.block(22, 18, 3, 1) = s.imu().v_WI;
+  EXPECT_LT((s.P() - J * P0 * J.transpose()).norm(), 1e-14 * P0.norm());
+  // Marginalizing the clone keeps the offset; a correction moves it.
+  s.marginalize_oldest_clone();
+  VectorXd dx = VectorXd::Zero(s.dim());
+  dx(18) = 0.001;
+  s.apply_correction(dx);
+  EXPECT_DOUBLE_EQ(s.time_offset()->t_d_s, 0.005);
+  // A calibration pose added later goes before it.
+  s.add_calib_pose("T_IC0", Eigen::Quaterniond::Identity(), Vector3d::Zero(), 0.01, 0.01);
+  EXPECT_EQ(s.time_offset()->cov_index, 24);
+  s.initialize(2000, s.imu(), random_spd(s.imu_dim(), 5));
+  EXPECT_FALSE(s.time_offset().has_value());
+}
+
 TEST(FilterState, MarginalizationDropsOldestCloneAndReindexes) {
   FilterState s = make_state(false);
   for (int i = 0; i < 3; ++i) {

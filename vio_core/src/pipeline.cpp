@@ -174,8 +174,10 @@ void Pipeline::update_flight_phase(TimeNs t) {
 void Pipeline::drain(bool force) {
   const bool dyn = config_.params.mode == PropagationMode::kDynamics;
   const TimeNs gap_ns = seconds_to_ns(config_.params.rotor_gap_s);
+  const TimeNs hold_ns = frame_hold_ns();
   while (!imu_queue_.empty()) {
     const ImuSample& s = imu_queue_.front();
+    if (!force && stream_time_ - s.t_ns < hold_ns) break;  // a frame that precedes it may still come
     ImuInput in{s.t_ns, s.gyro_I, s.accel_I, Eigen::Vector3d::Zero(), false};
     if (dyn) {
       const bool ready = thrust_.covers(s.t_ns) || force || stream_time_ - s.t_ns > gap_ns;
@@ -201,6 +203,9 @@ void Pipeline::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd&
     lagged_ = std::make_unique<FixedLagOutput>(config_.params.force_frame);
   }
   state_.initialize(t_ns, x, P_imu);
+  if (config_.params.init_sigma_time_offset > 0.0 && !config_.cameras.empty()) {
+    state_.add_time_offset(config_.cameras.front().timeshift_cam_imu_s, config_.params.init_sigma_time_offset);
+  }
   jumps_.clear();
   phase_.reset();
   last_input_.reset();
@@ -226,7 +231,7 @@ void Pipeline::process_imu(const ImuInput& in) {
   ++counters_.imu_samples;
   const EstimatorParams& p = config_.params;
   if (status_ == FilterStatus::kWaitingForInit) {
-    while (!frame_queue_.empty() && frame_queue_.front().t_ns <= in.t) {
+    while (!frame_queue_.empty() && imu_clock(frame_queue_.front().t_ns) <= in.t) {
       frame_queue_.pop_front();
       ++counters_.frames_skipped;
     }
@@ -262,16 +267,18 @@ void Pipeline::process_imu(const ImuInput& in) {
   const double thrust_scale = in.thrust_held ? p.rotor_gap_noise_scale : 1.0;
   if (p.mode == PropagationMode::kDynamics && in.thrust_held) ++counters_.rotor_gap_samples;
 
-  while (!frame_queue_.empty() && frame_queue_.front().t_ns <= in.t) {
+  while (!frame_queue_.empty() && imu_clock(frame_queue_.front().t_ns) <= in.t) {
     FeatureFrame f = std::move(frame_queue_.front());
     frame_queue_.pop_front();
+    const TimeNs stamp = f.t_ns;
+    f.t_ns = imu_clock(stamp);  // from here on every frame time is on the IMU clock
     if (f.t_ns < state_.time()) {
       ++counters_.frames_skipped;
       continue;
     }
     integrate_to(a, in, f.t_ns, noise_scale, thrust_scale);
     a = interpolate(a, in, f.t_ns);
-    process_frame(f);
+    process_frame(f, stamp, a.gyro - state_.imu().b_g);
     if (status_ == FilterStatus::kDiverged) return;
   }
   integrate_to(a, in, in.t, noise_scale, thrust_scale);
@@ -311,14 +318,29 @@ void Pipeline::integrate_to(const ImuInput& a, const ImuInput& b, TimeNs t_end, 
   pending_timings_.propagation_ms += ms_since(c0);
 }
 
-void Pipeline::process_frame(const FeatureFrame& f) {
+TimeNs Pipeline::frame_hold_ns() const {
+  // A frame stamped t_cam belongs at t_cam + t_d on the IMU clock: with t_d < 0 it arrives after
+  // the IMU samples it precedes. Hold IMU samples until the stamps of the other streams are
+  // -t_d ahead (plus 3 sigma while t_d is estimated), at most 0.2 s.
+  const double fixed = config_.cameras.empty() ? 0.0 : config_.cameras.front().timeshift_cam_imu_s;
+  double hold_s = -state_.time_offset_or(fixed);
+  if (const auto& td = state_.time_offset()) hold_s += 3.0 * std::sqrt(std::max(0.0, state_.P()(td->cov_index, td->cov_index)));
+  return static_cast<TimeNs>(std::llround(std::clamp(hold_s, 0.0, 0.2) * 1e9));
+}
+
+TimeNs Pipeline::imu_clock(TimeNs t_cam) const {
+  const double fixed = config_.cameras.empty() ? 0.0 : config_.cameras.front().timeshift_cam_imu_s;
+  return t_cam + static_cast<TimeNs>(std::llround(state_.time_offset_or(fixed) * 1e9));
+}
+
+void Pipeline::process_frame(const FeatureFrame& f, TimeNs stamp, const Eigen::Vector3d& w_I) {
   ++counters_.frames;
   const EstimatorParams& p = config_.params;
   const auto t_frame = Clock::now();
   FrameTimings& tm = pending_timings_;
-  tm.t_ns = f.t_ns;
+  tm.t_ns = stamp;
 
-  state_.augment_clone();
+  state_.augment_clone(w_I);
   const bool force_cloned = smoother_frame_start();
   FeatureFrame usable;
   usable.t_ns = f.t_ns;
@@ -496,6 +518,8 @@ void Pipeline::emit(TimeNs t) {
     const int is = state_.layout().thrust_scale_index();
     o.sigma_thrust_scale = std::sqrt(std::max(0.0, state_.P()(is, is)));
   }
+  o.time_offset_s = state_.time_offset_or(config_.cameras.empty() ? 0.0 : config_.cameras.front().timeshift_cam_imu_s);
+  if (const auto& td = state_.time_offset()) o.sigma_time_offset_s = std::sqrt(std::max(0.0, state_.P()(td->cov_index, td->cov_index)));
   o.status = status_;
   if (lagged_) lagged_->add_causal(o);
   if (on_estimate_) on_estimate_(o);

@@ -54,6 +54,7 @@ void FilterState::initialize(TimeNs t_ns, const ImuState& imu, const Eigen::Matr
   if (!layout_.force_rate) imu_.F_dot.setZero();
   if (!layout_.thrust_scale) imu_.thrust_scale = 1.0;
   calib_.clear();
+  time_offset_.reset();
   clones_.clear();
   force_clones_.clear();
   P_ = P_imu;
@@ -65,8 +66,13 @@ void FilterState::reset_imu_fej() {
   imu_fej_.v_WI = imu_.v_WI;
 }
 
-void FilterState::augment_clone() {
+void FilterState::augment_clone(const Eigen::Vector3d& w_I) {
   const int n = covariance::append_clone(P_, imu_idx::kTheta, 6);  // J selects dtheta, dp
+  if (time_offset_) {  // pose(t + dt_d) = pose(t) boxplus [w_I dt_d; v_WI dt_d]
+    Eigen::VectorXd g(6);
+    g << w_I, imu_.v_WI;
+    covariance::add_scaled(P_, n, g, time_offset_->cov_index);
+  }
   CloneState c;
   c.t_ns = t_ns_;
   c.T_WI = imu_.T_WI;
@@ -104,6 +110,7 @@ void FilterState::remove_block(int idx, int k) {
   for (CalibPose& c : calib_) {
     if (c.cov_index > idx) c.cov_index -= k;
   }
+  if (time_offset_ && time_offset_->cov_index > idx) time_offset_->cov_index -= k;
   for (CloneState& c : clones_) {
     if (c.cov_index > idx) c.cov_index -= k;
   }
@@ -120,6 +127,7 @@ int FilterState::add_calib_pose(const std::string& name, const Eigen::Quaternion
   cov.topLeftCorner<3, 3>().diagonal().setConstant(sigma_rot * sigma_rot);
   cov.bottomRightCorner<3, 3>().diagonal().setConstant(sigma_pos * sigma_pos);
   covariance::insert(P_, at, cov);
+  if (time_offset_) time_offset_->cov_index += 6;
   for (CloneState& c : clones_) c.cov_index += 6;
   for (ForceClone& c : force_clones_) c.cov_index += 6;
   CalibPose cp;
@@ -128,6 +136,16 @@ int FilterState::add_calib_pose(const std::string& name, const Eigen::Quaternion
   cp.cov_index = at;
   calib_.push_back(cp);
   return static_cast<int>(calib_.size()) - 1;
+}
+
+void FilterState::add_time_offset(double t_d_s, double sigma_s) {
+  if (time_offset_) throw std::logic_error("FilterState::add_time_offset: already there");
+  int at = imu_dim();
+  for (const CalibPose& c : calib_) at = std::max(at, c.cov_index + 6);
+  covariance::insert(P_, at, Eigen::MatrixXd::Constant(1, 1, sigma_s * sigma_s));
+  for (CloneState& c : clones_) c.cov_index += 1;
+  for (ForceClone& c : force_clones_) c.cov_index += 1;
+  time_offset_ = TimeOffsetState{t_d_s, at};
 }
 
 void FilterState::apply_correction(const Eigen::VectorXd& dx) {
@@ -147,6 +165,7 @@ void FilterState::apply_correction(const Eigen::VectorXd& dx) {
     c.T.q = so3::boxplus(c.T.q, dx.segment<3>(c.cov_index));
     c.T.p += dx.segment<3>(c.cov_index + 3);
   }
+  if (time_offset_) time_offset_->t_d_s += dx(time_offset_->cov_index);
   for (CloneState& c : clones_) {
     c.T_WI.q = so3::boxplus(c.T_WI.q, dx.segment<3>(c.cov_index));
     c.T_WI.p += dx.segment<3>(c.cov_index + 3);

@@ -50,6 +50,9 @@ class DatasetSink : public SimSink {
   void on_mass(const MassSample& s) override { writer_.write(s); }
   /// @brief phase0/data.csv `#timestamp [ns],phase` (0 on_ground, 1 airborne; docs/formats.md §1).
   void on_phase(const PhaseSample& s) override;
+  /// @brief mav0/time_offset0/data.csv: `#timestamp [ns],time_offset [s]` per camera stamp
+  /// (truth for the estimator's online time offset; t_imu = t_cam + offset).
+  void on_time_offset(TimeNs t_ns, double offset_s) override;
   void on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI) override;
   /// @brief Write landmarks and close all files.
   void finish();
@@ -60,6 +63,7 @@ class DatasetSink : public SimSink {
   std::unique_ptr<VisualOutput> visual_;
   Eigen::Matrix3d R_GS_;
   std::ofstream phase_;  ///< opened at the first phase sample (scenarios with `ground:`)
+  std::ofstream time_offset_;  ///< opened at the first offset sample (`cameras.time_offset_s`)
   std::uint64_t frames_ = 0;
   bool finished_ = false;
 };

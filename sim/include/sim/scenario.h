@@ -42,6 +42,11 @@ struct CamerasConfig {
   std::vector<CameraCalib> cameras;
   bool images = true;    ///< render images (off: feature-only)
   bool features = true;  ///< write feat0 (feature-level measurements) + landmarks.csv
+  /// True camera-IMU clock offset [s], Kalibr's sign: t_imu = t_cam + offset. Every camera
+  /// stamp is the IMU-clock time of its image minus the offset (plus jitter). What the written
+  /// calibration says is each camera's `timeshift_cam_imu` (default 0: unknown).
+  double time_offset_s = 0.0;
+  double time_offset_jitter_s = 0.0;  ///< per-frame Gaussian jitter of the offset [s] (clamped to 3 sigma)
 };
 
 /// @brief Everything vid_sim needs to produce one sequence.

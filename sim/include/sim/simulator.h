@@ -56,8 +56,12 @@ class SimSink {
   virtual void on_truth(const TruthSample&) {}
   /// @brief Contact phase at every ground-truth time, only when the scenario has `ground:`.
   virtual void on_phase(const PhaseSample&) {}
-  /// @brief A camera trigger: body pose at the image time (cameras via their T_IC).
+  /// @brief A camera trigger: body pose at the image time (cameras via their T_IC). @p t_ns is
+  /// the camera's stamp: the image's IMU-clock time minus the camera-IMU time offset.
   virtual void on_camera(TimeNs /*t_ns*/, std::uint64_t /*frame_index*/, const Eigen::Isometry3d& /*T_WI*/) {}
+  /// @brief The true offset of the frame stamped @p t_ns (t_imu = t_cam + offset), only when the
+  /// scenario has `cameras.time_offset_s` or `time_offset_jitter_s`.
+  virtual void on_time_offset(TimeNs /*t_ns*/, double /*offset_s*/) {}
 };
 
 /// @brief Runs one scenario.

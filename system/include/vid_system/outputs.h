@@ -26,6 +26,8 @@ struct EstimateRow {
   Eigen::Matrix<double, 18, 1> sigma = Eigen::Matrix<double, 18, 1>::Zero();
   double thrust_scale = 1.0;        ///< s of a = s T_m + F_ext + b_a (1 when not estimated)
   double sigma_thrust_scale = 0.0;  ///< its 1-sigma (0 when not estimated)
+  double time_offset_s = 0.0;        ///< camera-IMU time offset in use [s]
+  double sigma_time_offset_s = 0.0;  ///< its 1-sigma (0 when not estimated)
 };
 
 /// @brief One line of trajectory_tum.txt: "t tx ty tz qx qy qz qw", t in seconds with 9
@@ -67,7 +69,9 @@ class RunOutputs {
   /// @param write_force  false in imu mode (force.csv then holds only its header)
   /// @param mass_kg  the calibration's mass m0 when the thrust scale s is estimated: mass.csv
   /// then holds s and the mass it implies, m = m0 / s (README "Mass state")
-  RunOutputs(const std::filesystem::path& out_dir, bool write_force, std::optional<double> mass_kg = std::nullopt);
+  /// @param time_offset  the time offset is estimated: time_offset.csv (t, t_d [s], sigma [s])
+  RunOutputs(const std::filesystem::path& out_dir, bool write_force, std::optional<double> mass_kg = std::nullopt,
+             bool time_offset = false);
   void write_estimate(const EstimateRow& row);
   void write_timing(const TimingRow& row);
   void close();
@@ -77,6 +81,7 @@ class RunOutputs {
   std::optional<double> mass_kg_;
   FlushedFile tum_, state_, force_, timing_;
   std::optional<FlushedFile> mass_;
+  std::optional<FlushedFile> time_offset_;
 };
 
 /// @brief trajectory_smoothed_tum.txt and force_smoothed.csv (fixed-lag smoothed estimates,

@@ -55,6 +55,18 @@ inline int append_clone(Eigen::MatrixXd& P, int first, int k) {
   return n;
 }
 
+/// @brief A linear change of variables x_a <- x_a + g x_b for a k-vector variable at a and a
+/// scalar variable at b (b outside [a, a + k)): P <- T P T^T with T = I + E_a g e_b^T. A clone
+/// taken at an uncertain time (the camera-IMU time offset) is the clone plus its rate times the
+/// offset's error.
+inline void add_scaled(Eigen::MatrixXd& P, int a, const Eigen::VectorXd& g, int b) {
+  const int k = static_cast<int>(g.size());
+  const Eigen::RowVectorXd row_b = P.row(b);
+  P.middleRows(a, k) += g * row_b;
+  const Eigen::VectorXd col_b = P.col(b);  // after the row operation (T P, then (T P) T^T)
+  P.middleCols(a, k) += col_b * g.transpose();
+}
+
 /// @brief Marginalize the variable at [at, at + k): drop its rows and columns (P shrinks by k;
 /// the caller shifts the indices of the variables behind it).
 inline void remove(Eigen::MatrixXd& P, int at, int k) {

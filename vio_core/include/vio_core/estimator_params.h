@@ -173,6 +173,10 @@ struct EstimatorParams {
   double init_sigma_force = 0.5;         ///< [m/s^2]
   double init_sigma_force_rate = 0.5;    ///< [m/s^3] (with force_rate_random_walk > 0)
   double init_sigma_thrust_scale = 0.3;  ///< [-] (with thrust_scale_random_walk > 0)
+  /// > 0 estimates the camera-IMU time offset t_d (t_imu = t_cam + t_d) online, starting from
+  /// cam0's calibrated timeshift_cam_imu with this sigma [s]; 0: t_d fixed at the calibration's
+  /// value. README "Camera-IMU time offset".
+  double init_sigma_time_offset = 0.0;
 
   // --- divergence detection ---
   double max_velocity = 50.0;            ///< |v| above this [m/s] -> diverged

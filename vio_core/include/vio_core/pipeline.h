@@ -67,6 +67,8 @@ struct EstimateOutput {
   Eigen::Vector3d F_ext_I, F_ext_W;
   Eigen::Matrix3d cov_F_I, cov_F_W;
   double sigma_thrust_scale = 0.0;  ///< 1-sigma of x.thrust_scale (0 when it is not estimated)
+  double time_offset_s = 0.0;        ///< camera-IMU time offset t_d in use (t_imu = t_cam + t_d)
+  double sigma_time_offset_s = 0.0;  ///< its 1-sigma (0 when it is not estimated)
   FilterStatus status = FilterStatus::kOk;
   FlightPhase phase = FlightPhase::kUnknown;  ///< landed / airborne (dynamics mode; flight_phase.h)
 };
@@ -74,7 +76,7 @@ struct EstimateOutput {
 /// @brief Stage times of one camera frame [ms] (propagation and accelerometer updates are
 /// accumulated since the previous frame).
 struct FrameTimings {
-  TimeNs t_ns = 0;
+  TimeNs t_ns = 0;  ///< the frame's camera stamp
   double propagation_ms = 0.0;
   double accel_update_ms = 0.0;
   double msckf_update_ms = 0.0;
@@ -186,7 +188,14 @@ class Pipeline {
   void process_imu(const ImuInput& in);
   void integrate_to(const ImuInput& a, const ImuInput& b, TimeNs t_end, double noise_scale,
                     double thrust_scale);
-  void process_frame(const FeatureFrame& f);
+  /// @brief One camera frame at f.t_ns (IMU clock); @p stamp is its camera stamp (timings),
+  /// @p w_I the bias-corrected body rate at f.t_ns (the clone's time-offset Jacobian).
+  void process_frame(const FeatureFrame& f, TimeNs stamp, const Eigen::Vector3d& w_I);
+  /// @brief IMU-clock time of a camera stamp: t_cam + t_d (the estimate with the time-offset
+  /// state, else cam0's calibrated timeshift_cam_imu).
+  TimeNs imu_clock(TimeNs t_cam) const;
+  /// @brief How far behind the newest stamp IMU samples wait for frames (negative t_d).
+  TimeNs frame_hold_ns() const;
   void zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest, double sigma_mps,
                               bool landed);
   void check_divergence(bool full);

@@ -9,12 +9,13 @@
 /// state's force frame, EstimatorParams::force_frame), then optionally dF_ext/dt(3) in the same
 /// frame (EstimatorParams::force_rate_random_walk > 0), then optionally the thrust scale ds(1)
 /// (EstimatorParams::thrust_scale_random_walk > 0; ImuLayout says where each sits).
-/// Calibration variables follow the IMU block; pose clones and force clones (each oldest
+/// Calibration variables (poses, then the time offset) follow the IMU block; pose clones and force clones (each oldest
 /// first, interleaved in the order they were taken) follow those.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <deque>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -106,6 +107,12 @@ struct CalibPose {
   int cov_index = -1;  ///< column of [dtheta, dp] in P
 };
 
+/// @brief The camera-IMU time offset t_d (t_imu = t_cam + t_d), estimated in the filter.
+struct TimeOffsetState {
+  double t_d_s = 0.0;  ///< [s]
+  int cov_index = -1;  ///< its column in P
+};
+
 /// @brief Result of a covariance health check.
 struct CovarianceHealth {
   bool finite = true;
@@ -156,7 +163,10 @@ class FilterState {
 
   /// @brief Add a clone of the current IMU pose at the current time: P grows by 6 with the
   /// clone fully correlated to the IMU pose. The clone's first estimate is the IMU's.
-  void augment_clone();
+  /// With the time-offset state, the current time is the image's estimated IMU-clock time
+  /// t_cam + t_d_hat, and the clone is the pose at the true one: its error is the IMU pose's
+  /// plus [w_I; v_WI] times the offset's error (@p w_I: bias-corrected body rate now).
+  void augment_clone(const Eigen::Vector3d& w_I = Eigen::Vector3d::Zero());
   /// @brief Remove the oldest clone (marginalize: drop its rows/cols). No-op without clones.
   void marginalize_oldest_clone();
 
@@ -170,6 +180,13 @@ class FilterState {
   /// variables shift). Returns its index in calib_poses().
   int add_calib_pose(const std::string& name, const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
                      double sigma_rot, double sigma_pos);
+
+  /// @brief Add the time-offset variable t_d with standard deviation @p sigma_s, right after the
+  /// IMU block and calibration poses (indices of later variables shift).
+  void add_time_offset(double t_d_s, double sigma_s);
+  const std::optional<TimeOffsetState>& time_offset() const { return time_offset_; }
+  /// @brief t_d: the estimate with the state, else @p fixed_s (the calibration's).
+  double time_offset_or(double fixed_s) const { return time_offset_ ? time_offset_->t_d_s : fixed_s; }
 
   /// @brief Apply an error-state correction dx (size dim()): boxplus on rotations, + elsewhere.
   void apply_correction(const Eigen::VectorXd& dx);
@@ -189,6 +206,7 @@ class FilterState {
   ImuState imu_;
   ImuFej imu_fej_;
   std::vector<CalibPose> calib_;
+  std::optional<TimeOffsetState> time_offset_;
   std::deque<CloneState> clones_;
   std::deque<ForceClone> force_clones_;
   Eigen::MatrixXd P_;
