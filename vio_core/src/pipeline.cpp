@@ -322,15 +322,16 @@ TimeNs Pipeline::frame_hold_ns() const {
   // A frame stamped t_cam belongs at t_cam + t_d on the IMU clock: with t_d < 0 it arrives after
   // the IMU samples it precedes. Hold IMU samples until the stamps of the other streams are
   // -t_d ahead (plus 3 sigma while t_d is estimated), at most 0.2 s.
-  const double fixed = config_.cameras.empty() ? 0.0 : config_.cameras.front().timeshift_cam_imu_s;
-  double hold_s = -state_.time_offset_or(fixed);
-  if (const auto& td = state_.time_offset()) hold_s += 3.0 * std::sqrt(std::max(0.0, state_.P()(td->cov_index, td->cov_index)));
+  const double hold_s = -time_offset_s() + 3.0 * state_.time_offset_sigma();
   return static_cast<TimeNs>(std::llround(std::clamp(hold_s, 0.0, 0.2) * 1e9));
 }
 
+double Pipeline::time_offset_s() const {
+  return state_.time_offset_or(config_.cameras.empty() ? 0.0 : config_.cameras.front().timeshift_cam_imu_s);
+}
+
 TimeNs Pipeline::imu_clock(TimeNs t_cam) const {
-  const double fixed = config_.cameras.empty() ? 0.0 : config_.cameras.front().timeshift_cam_imu_s;
-  return t_cam + static_cast<TimeNs>(std::llround(state_.time_offset_or(fixed) * 1e9));
+  return t_cam + static_cast<TimeNs>(std::llround(time_offset_s() * 1e9));
 }
 
 void Pipeline::process_frame(const FeatureFrame& f, TimeNs stamp, const Eigen::Vector3d& w_I) {
@@ -518,8 +519,8 @@ void Pipeline::emit(TimeNs t) {
     const int is = state_.layout().thrust_scale_index();
     o.sigma_thrust_scale = std::sqrt(std::max(0.0, state_.P()(is, is)));
   }
-  o.time_offset_s = state_.time_offset_or(config_.cameras.empty() ? 0.0 : config_.cameras.front().timeshift_cam_imu_s);
-  if (const auto& td = state_.time_offset()) o.sigma_time_offset_s = std::sqrt(std::max(0.0, state_.P()(td->cov_index, td->cov_index)));
+  o.time_offset_s = time_offset_s();
+  o.sigma_time_offset_s = state_.time_offset_sigma();
   o.status = status_;
   if (lagged_) lagged_->add_causal(o);
   if (on_estimate_) on_estimate_(o);

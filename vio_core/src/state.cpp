@@ -148,6 +148,11 @@ void FilterState::add_time_offset(double t_d_s, double sigma_s) {
   time_offset_ = TimeOffsetState{t_d_s, at};
 }
 
+double FilterState::time_offset_sigma() const {
+  if (!time_offset_) return 0.0;
+  return std::sqrt(std::max(0.0, P_(time_offset_->cov_index, time_offset_->cov_index)));
+}
+
 void FilterState::apply_correction(const Eigen::VectorXd& dx) {
   if (dx.size() != dim()) {
     throw std::invalid_argument("FilterState::apply_correction: size " + std::to_string(dx.size()) +

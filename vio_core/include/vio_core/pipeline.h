@@ -194,6 +194,8 @@ class Pipeline {
   /// @brief IMU-clock time of a camera stamp: t_cam + t_d (the estimate with the time-offset
   /// state, else cam0's calibrated timeshift_cam_imu).
   TimeNs imu_clock(TimeNs t_cam) const;
+  /// @brief t_d in use [s]: the estimate with the time-offset state, else cam0's calibrated one.
+  double time_offset_s() const;
   /// @brief How far behind the newest stamp IMU samples wait for frames (negative t_d).
   TimeNs frame_hold_ns() const;
   void zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest, double sigma_mps,

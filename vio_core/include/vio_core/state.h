@@ -187,6 +187,8 @@ class FilterState {
   const std::optional<TimeOffsetState>& time_offset() const { return time_offset_; }
   /// @brief t_d: the estimate with the state, else @p fixed_s (the calibration's).
   double time_offset_or(double fixed_s) const { return time_offset_ ? time_offset_->t_d_s : fixed_s; }
+  /// @brief 1-sigma of t_d (0 without the state).
+  double time_offset_sigma() const;
 
   /// @brief Apply an error-state correction dx (size dim()): boxplus on rotations, + elsewhere.
   void apply_correction(const Eigen::VectorXd& dx);

@@ -96,10 +96,6 @@ SequenceRun run_from_sequence(const std::filesystem::path& sequence, const std::
   info.sigma_v = s.sigma_v;
 
   Rng noise(s.seed);
-  auto gauss3 = [&](double sigma) -> Eigen::Vector3d {
-    const double x = noise.normal(), y = noise.normal(), z = noise.normal();
-    return Eigen::Vector3d(x, y, z) * sigma;
-  };
   out.run.samples.reserve(static_cast<std::size_t>(n));
   GroundTruthSample next = gt_at(in.gt, t0);
   for (long k = 0; k < n; ++k) {
@@ -108,9 +104,9 @@ SequenceRun run_from_sequence(const std::filesystem::path& sequence, const std::
     next = gt_at(in.gt, t + step_ns);
     MassIdSample sample;
     sample.t = static_cast<double>(k) * dt;
-    sample.q_WI = (now.T_WI.q * so3::quat_exp(gauss3(s.sigma_q))).normalized();
-    sample.p_WI = now.T_WI.p + gauss3(s.sigma_p);
-    sample.v_WI = now.v_WI + gauss3(s.sigma_v);
+    sample.q_WI = (now.T_WI.q * so3::quat_exp(noise.normal3(s.sigma_q))).normalized();
+    sample.p_WI = now.T_WI.p + noise.normal3(s.sigma_p);
+    sample.v_WI = now.v_WI + noise.normal3(s.sigma_v);
     sample.w_I = so3::boxminus(next.T_WI.q, now.T_WI.q) / dt;
     double thrust_sum = 0.0;
     int count = 0;

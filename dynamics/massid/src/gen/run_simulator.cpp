@@ -104,10 +104,6 @@ SimulatedRun simulate_run(const GeneratorSettings& s, const std::string& traject
   out.truth.reserve(n);
   double sq_err = 0.0;
   long saturated = 0;
-  auto gauss3 = [&](double sigma) -> Eigen::Vector3d {
-    const double x = noise.normal(), y = noise.normal(), z = noise.normal();
-    return Eigen::Vector3d(x, y, z) * sigma;
-  };
   for (long k = 0; k < n; ++k) {
     const double t = static_cast<double>(k) / s.rate_hz;
     RunTruthSample truth;
@@ -119,9 +115,9 @@ SimulatedRun simulate_run(const GeneratorSettings& s, const std::string& traject
     MassIdSample sample;
     sample.t = t;
     // q noise is a local (right) perturbation: q_meas = q ⊗ exp(n_q / 2).
-    sample.q_WI = (q_WI * so3::quat_exp(gauss3(s.sigma_q))).normalized();
-    sample.p_WI = p_WI + gauss3(s.sigma_p);
-    sample.v_WI = v_WI + gauss3(s.sigma_v);
+    sample.q_WI = (q_WI * so3::quat_exp(noise.normal3(s.sigma_q))).normalized();
+    sample.p_WI = p_WI + noise.normal3(s.sigma_p);
+    sample.v_WI = v_WI + noise.normal3(s.sigma_v);
     const ControlOutput u = controller.compute(t, sample.q_WI, sample.p_WI, sample.v_WI, *reference);
     sample.thrust_cmd = u.thrust_N;
     sample.w_I = u.w_I;

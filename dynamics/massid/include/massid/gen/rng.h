@@ -4,6 +4,7 @@
 /// sequence is fixed by the standard) with our own uniform and Box-Muller normal, because the
 /// standard distributions may differ between library implementations.
 
+#include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -32,6 +33,11 @@ class Rng {
     while (u1 <= 0.0) u1 = uniform();
     const double u2 = uniform();
     return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+  }
+  /// @brief Three independent normals (x, y, z drawn in that order) times @p sigma.
+  Eigen::Vector3d normal3(double sigma) {
+    const double x = normal(), y = normal(), z = normal();
+    return Eigen::Vector3d(x, y, z) * sigma;
   }
 
  private:
