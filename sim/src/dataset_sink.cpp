@@ -61,8 +61,9 @@ void DatasetSink::on_time_offset(TimeNs t_ns, double offset_s) {
   if (!time_offset_) throw io::DatasetError(file.string() + ": write failed");
 }
 
-void DatasetSink::on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI) {
-  if (visual_) visual_->on_camera(t_ns, frame_index, T_WI, writer_);
+void DatasetSink::on_camera_trigger(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI,
+                                    const BodyMotion& motion) {
+  if (visual_) visual_->on_camera(t_ns, frame_index, T_WI, motion, writer_);
   ++frames_;
 }
 

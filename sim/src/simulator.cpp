@@ -210,14 +210,15 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
       Eigen::Isometry3d T_WI = Eigen::Isometry3d::Identity();
       T_WI.linear() = R_WI;
       T_WI.translation() = x.p_WI;
+      const BodyMotion motion{x.v_WI, f.accel_W, x.w_I};
       if (camera_offset) {
         const double jitter = sc.noise ? std::clamp(camera_clock.normal(), -3.0, 3.0) * sc.cameras.time_offset_jitter_s : 0.0;
         const double offset_s = sc.cameras.time_offset_s + jitter;
         const TimeNs stamp = t - static_cast<TimeNs>(std::llround(offset_s * 1e9));
-        sink.on_camera(stamp, cam_s.index(), T_WI);
+        sink.on_camera_trigger(stamp, cam_s.index(), T_WI, motion);
         sink.on_time_offset(stamp, offset_s);
       } else {
-        sink.on_camera(t, cam_s.index(), T_WI);
+        sink.on_camera_trigger(t, cam_s.index(), T_WI, motion);
       }
       cam_s.advance();
     }

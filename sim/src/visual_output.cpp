@@ -31,10 +31,13 @@ class RenderedOutput : public VisualOutput {
     if (!sc.noise) {
       render_cfg_.noise_sigma = 0.0;
       render_cfg_.brightness_jitter = 0.0;
+      render_cfg_.electrons_per_level = 0.0;
     }
     if (sc.cameras.images) {
-      for (const CameraCalib& c : sc.cameras.cameras)
+      for (const CameraCalib& c : sc.cameras.cameras) {
         renderers_.push_back(std::make_unique<Renderer>(scene_, c, render_cfg_.supersampling));
+        auto_exposure_.emplace_back(render_cfg_.auto_exposure, render_cfg_.exposure_s);
+      }
     }
 #ifdef VID_SIM_HAS_FEATURES
     FeatureSimConfig fc =
@@ -49,12 +52,36 @@ class RenderedOutput : public VisualOutput {
   }
 
   void on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI,
-                 io::DatasetWriter& writer) override {
+                 const BodyMotion& motion, io::DatasetWriter& writer) override {
     for (std::size_t i = 0; i < renderers_.size(); ++i) {
       const CameraCalib& c = sc_.cameras.cameras[i];
-      const Eigen::Isometry3d T_WC = T_WI * c.T_IC;
-      const FrameAppearance app = appearance_for_frame(render_cfg_, t_ns, c.cam_id, frame_index);
-      renderers_[i]->render(T_WC, app, &image_);
+      FrameAppearance app = appearance_for_frame(render_cfg_, t_ns, c.cam_id, frame_index);
+      if (app.exposure_s <= 0.0 && app.line_delay_s <= 0.0 && !render_cfg_.auto_exposure.enabled) {
+        renderers_[i]->render(T_WI * c.T_IC, app, &image_);  // instantaneous global shutter
+      } else {
+        // Constant-acceleration, constant-rate extrapolation over the exposure and readout
+        // (milliseconds: the neglected jerk and angular acceleration move a pixel far less
+        // than 0.01 px).
+        const PoseAtTime T_WC_at = [&](double dt) {
+          Eigen::Isometry3d T = T_WI;
+          T.translation() += motion.v_WI * dt + 0.5 * dt * dt * motion.a_WI;
+          const Eigen::Vector3d rot = motion.w_I * dt;
+          if (rot.norm() > 0.0) T.linear() = T_WI.linear() * Eigen::AngleAxisd(rot.norm(), rot.normalized()).toRotationMatrix();
+          return T * c.T_IC;
+        };
+        AutoExposure& ae = auto_exposure_[i];
+        if (render_cfg_.auto_exposure.enabled) {
+          if (!ae.metered()) {  // meter a first image: the camera ran before the sequence
+            FrameAppearance probe = app;
+            apply_auto_exposure(ae, &probe);
+            renderers_[i]->render(T_WC_at, probe, &image_);
+            ae.update(cv::mean(image_)[0]);
+          }
+          apply_auto_exposure(ae, &app);
+        }
+        renderers_[i]->render(T_WC_at, app, &image_);
+        if (render_cfg_.auto_exposure.enabled) ae.update(cv::mean(image_)[0]);
+      }
       writer.write_image(c.cam_id, t_ns, image_);
     }
 #ifdef VID_SIM_HAS_FEATURES
@@ -86,6 +113,7 @@ class RenderedOutput : public VisualOutput {
   Scene scene_;
   RenderConfig render_cfg_;
   std::vector<std::unique_ptr<Renderer>> renderers_;
+  std::vector<AutoExposure> auto_exposure_;  ///< per camera (used when enabled)
   cv::Mat image_;
 #ifdef VID_SIM_HAS_FEATURES
   std::unique_ptr<FeatureSimulator> features_;

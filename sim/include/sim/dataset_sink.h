@@ -18,8 +18,9 @@ namespace vid::sim {
 class VisualOutput {
  public:
   virtual ~VisualOutput() = default;
+  /// @brief One camera trigger: body pose and motion at the image time (stamp t_ns).
   virtual void on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI,
-                         io::DatasetWriter& writer) = 0;
+                         const BodyMotion& motion, io::DatasetWriter& writer) = 0;
   /// @brief Write end-of-run files (landmarks.csv, positions rotated by R_GS into the
   /// ground-truth world) into mav0.
   virtual void finish(io::DatasetWriter& writer, const Eigen::Matrix3d& R_GS) = 0;
@@ -53,7 +54,8 @@ class DatasetSink : public SimSink {
   /// @brief mav0/time_offset0/data.csv: `#timestamp [ns],time_offset [s]` per camera stamp
   /// (truth for the estimator's online time offset; t_imu = t_cam + offset).
   void on_time_offset(TimeNs t_ns, double offset_s) override;
-  void on_camera(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI) override;
+  void on_camera_trigger(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI,
+                         const BodyMotion& motion) override;
   /// @brief Write landmarks and close all files.
   void finish();
   std::uint64_t camera_frames() const { return frames_; }

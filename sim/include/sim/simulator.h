@@ -44,6 +44,14 @@ struct PhaseSample {
   FlightPhase phase = FlightPhase::kAirborne;
 };
 
+/// @brief Body motion at a camera trigger: what an image's exposure (motion blur, rolling
+/// shutter) integrates over; the pose at t + dt is extrapolated from it (|dt| of milliseconds).
+struct BodyMotion {
+  Eigen::Vector3d v_WI = Eigen::Vector3d::Zero();  ///< velocity of I in W [m/s]
+  Eigen::Vector3d a_WI = Eigen::Vector3d::Zero();  ///< acceleration of I in W [m/s^2]
+  Eigen::Vector3d w_I = Eigen::Vector3d::Zero();   ///< angular velocity in I [rad/s]
+};
+
 /// @brief Receiver of everything the simulator produces (all methods optional).
 class SimSink {
  public:
@@ -59,6 +67,12 @@ class SimSink {
   /// @brief A camera trigger: body pose at the image time (cameras via their T_IC). @p t_ns is
   /// the camera's stamp: the image's IMU-clock time minus the camera-IMU time offset.
   virtual void on_camera(TimeNs /*t_ns*/, std::uint64_t /*frame_index*/, const Eigen::Isometry3d& /*T_WI*/) {}
+  /// @brief The camera trigger as the simulator sends it: on_camera plus the body motion at
+  /// that time (for exposures). The default forwards to on_camera.
+  virtual void on_camera_trigger(TimeNs t_ns, std::uint64_t frame_index, const Eigen::Isometry3d& T_WI,
+                                 const BodyMotion& /*motion*/) {
+    on_camera(t_ns, frame_index, T_WI);
+  }
   /// @brief The true offset of the frame stamped @p t_ns (t_imu = t_cam + offset), only when the
   /// scenario has `cameras.time_offset_s` or `time_offset_jitter_s`.
   virtual void on_time_offset(TimeNs /*t_ns*/, double /*offset_s*/) {}

@@ -9,36 +9,16 @@
 #include <stdexcept>
 
 #include "frontend/camera_model.h"
+#include "render_internal.h"
 #include "sim/render/random.h"
 
 namespace vid::sim {
 
 namespace {
 
-constexpr int kTile = 16;  // tile edge [px] for per-tile box culling
+constexpr int kTile = Renderer::kTileSize;
+constexpr int kMaxCandidates = 32;  // boxes per tile kept on the stack (more: a heap list)
 constexpr float kInfF() { return std::numeric_limits<float>::infinity(); }
-
-/// Inverse standard-normal CDF at 65536 equally likely levels: 16 random bits -> one
-/// Gaussian sample by lookup (exact to the table's quantization, far below 1 gray level).
-const std::array<float, 65536>& normal_table() {
-  static const std::array<float, 65536> table = [] {
-    std::array<float, 65536> t{};
-    for (int i = 0; i < 65536; ++i) {
-      const double p = (i + 0.5) / 65536.0;
-      double x = 0.0;
-      for (int it = 0; it < 60; ++it) {  // Newton on Phi(x) - p
-        const double cdf = 0.5 * std::erfc(-x / std::numbers::sqrt2);
-        const double pdf = std::exp(-0.5 * x * x) / std::sqrt(2.0 * std::numbers::pi);
-        const double step = (cdf - p) / std::max(pdf, 1e-300);
-        x -= std::clamp(step, -1.0, 1.0);
-        if (std::abs(step) < 1e-13) break;
-      }
-      t[i] = static_cast<float>(x);
-    }
-    return t;
-  }();
-  return table;
-}
 
 /// Flattened per-surface texture access for the inner loop.
 struct FastLevel {
@@ -48,12 +28,16 @@ struct FastLevel {
   float scale;         // texels per metre at this level
   float off_u, off_v;  // texel coordinate = p[axis] * scale - off
 };
-struct FastSurface {
+}  // namespace
+
+struct Renderer::FastSurface {
   int u_axis, v_axis, normal_axis, n_levels;
   bool board;
   float board_lo_u, board_lo_v, board_hi_u, board_hi_v;  // board + margin, W coordinates
   FastLevel level[24];
 };
+
+namespace {
 
 /// floor(log2(x)) / 2 for x >= 1 from the float exponent (0 for x < 4).
 inline int half_log2_floor(float x) {
@@ -70,6 +54,7 @@ Renderer::Renderer(const Scene& scene, const CameraCalib& calib, int supersampli
       width_(calib.width), height_(calib.height) {
   if (ss_ < 1 || ss_ > 4) throw std::invalid_argument("Renderer: supersampling must be in 1..4");
   precompute_rays();
+  build_surface_table();
 }
 
 Renderer::~Renderer() = default;
@@ -79,10 +64,14 @@ void Renderer::precompute_rays() {
   tiles_.clear();
   for (int ty = 0; ty < height_; ty += kTile) {
     for (int tx = 0; tx < width_; tx += kTile) {
-      Tile tile{chunks_.size(), chunks_.size(), Eigen::Vector3f::Zero(), 0.0f};
+      Tile tile{chunks_.size(), chunks_.size(), {}, Eigen::Vector3f::Zero(), 0.0f};
       std::vector<Eigen::Vector3f> rays;
       int lane = 4;
-      for (int y = ty; y < std::min(ty + kTile, height_); ++y) {
+      const int y_end = std::min(ty + kTile, height_);
+      for (int y = ty; y < y_end; ++y) {
+        // First chunk of pixel row y: the next one created (a chunk that straddles two rows,
+        // possible only for odd tile widths at odd supersampling, counts for its first row).
+        tile.row_begin[y - ty] = static_cast<std::uint32_t>(chunks_.size());
         for (int x = tx; x < std::min(tx + kTile, width_); ++x) {
           for (int sy = 0; sy < ss_; ++sy) {
             for (int sx = 0; sx < ss_; ++sx) {
@@ -108,6 +97,7 @@ void Renderer::precompute_rays() {
         }
       }
       tile.chunk_end = chunks_.size();
+      for (int r = y_end - ty; r <= kTile; ++r) tile.row_begin[r] = static_cast<std::uint32_t>(tile.chunk_end);
       if (tile.axis_C.norm() > 0) tile.axis_C.normalize();
       float max_angle = 0.0f;
       for (const auto& r : rays) {
@@ -119,11 +109,13 @@ void Renderer::precompute_rays() {
   }
 }
 
-void Renderer::render_radiance_generic(const Eigen::Isometry3d& T_WC, float* out) const {
+void Renderer::trace_generic(const Eigen::Isometry3d& T_WC, std::size_t chunk_begin,
+                             std::size_t chunk_end, float* out) const {
   const float inv_S = 1.0f / static_cast<float>(ss_ * ss_);
   const double angle_per_sample =
       1.0 / (0.5 * (camera_->calib().intrinsics[0] + camera_->calib().intrinsics[1]) * ss_);
-  for (const Chunk& c : chunks_) {
+  for (std::size_t ci = chunk_begin; ci < chunk_end; ++ci) {
+    const Chunk& c = chunks_[ci];
     for (int l = 0; l < 4; ++l) {
       if (c.pix[l] < 0) continue;
       const Eigen::Vector3d dir_W = T_WC.linear() * Eigen::Vector3d(c.x[l], c.y[l], c.z[l]);
@@ -149,26 +141,14 @@ inline v4i splat_i(std::int32_t x) { return v4i{x, x, x, x}; }
 
 }  // namespace
 
-void Renderer::render_radiance(const Eigen::Isometry3d& T_WC, float* out) const {
-  std::fill(out, out + static_cast<std::size_t>(width_) * height_, 0.0f);
-  if (!scene_.is_free(T_WC.translation(), 1e-6)) {
-    render_radiance_generic(T_WC, out);  // camera outside the room or inside a box
-    return;
-  }
-  const float inv_S = 1.0f / static_cast<float>(ss_ * ss_);
-  const Eigen::Matrix3f R = T_WC.linear().cast<float>();
-  const Eigen::Vector3f o = T_WC.translation().cast<float>();
-  const Eigen::Vector3f room_lo = scene_.room_min().cast<float>();
-  const Eigen::Vector3f room_hi = scene_.room_max().cast<float>();
-  const double tpm = scene_.config().texels_per_m;
-
+void Renderer::build_surface_table() {
   const auto& surfaces = scene_.surfaces();
-  std::vector<FastSurface> fs(surfaces.size());
+  fs_.assign(surfaces.size(), FastSurface{});
   const Eigen::Vector4d board = scene_.checkerboard_rect_uv();
   const double board_margin = scene_.config().checkerboard.square_size;
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
     const Surface& s = surfaces[i];
-    FastSurface& f = fs[i];
+    FastSurface& f = fs_[i];
     f.u_axis = s.u_axis;
     f.v_axis = s.v_axis;
     f.normal_axis = s.normal_axis;
@@ -187,41 +167,99 @@ void Renderer::render_radiance(const Eigen::Isometry3d& T_WC, float* out) const 
     f.board_hi_u = static_cast<float>(s.u0 + board[2] + board_margin);
     f.board_hi_v = static_cast<float>(s.v0 + board[3] + board_margin);
   }
+  for (const Box& b : scene_.boxes()) {
+    box_lo_.push_back(b.min_W.cast<float>());
+    box_hi_.push_back(b.max_W.cast<float>());
+  }
+}
+
+Renderer::PoseSetup Renderer::setup_pose(const Eigen::Isometry3d& T_WC) const {
+  PoseSetup p;
+  p.T_WC = T_WC;
+  p.free = scene_.is_free(T_WC.translation(), 1e-6);
+  p.R = T_WC.linear().cast<float>();
+  p.o = T_WC.translation().cast<float>();
+  // Bounding spheres of the boxes in the camera frame, for culling them per tile.
+  const auto& boxes = scene_.boxes();
+  const int nb = static_cast<int>(boxes.size());
+  p.b_ang.resize(nb);
+  p.b_dir.resize(nb);
+  p.b_always.resize(nb);
+  const Eigen::Isometry3d T_CW = T_WC.inverse();
+  for (int b = 0; b < nb; ++b) {
+    const Eigen::Vector3d c_C = T_CW * (0.5 * (boxes[b].min_W + boxes[b].max_W));
+    const double r = 0.5 * (boxes[b].max_W - boxes[b].min_W).norm() * 1.001 + 1e-4;
+    const double dist = c_C.norm();
+    p.b_always[b] = dist <= r;
+    p.b_dir[b] = p.b_always[b] ? Eigen::Vector3f::Zero().eval() : Eigen::Vector3f((c_C / dist).cast<float>());
+    p.b_ang[b] = p.b_always[b] ? 0.0f : static_cast<float>(std::asin(r / dist));
+  }
+  return p;
+}
+
+void Renderer::render_radiance(const Eigen::Isometry3d& T_WC, float* out) const {
+  std::fill(out, out + static_cast<std::size_t>(width_) * height_, 0.0f);
+  const PoseSetup p = setup_pose(T_WC);
+  for (const Tile& tile : tiles_) trace(p, tile, tile.chunk_begin, tile.chunk_end, out);
+}
+
+void Renderer::render_radiance_rows(const PoseAtTime& T_WC_at, double t0_s, double line_delay_s,
+                                    float* out) const {
+  std::fill(out, out + static_cast<std::size_t>(width_) * height_, 0.0f);
+  const int tiles_x = (width_ + kTileSize - 1) / kTileSize;
+  for (int y = 0; y < height_; ++y) {
+    const PoseSetup p = setup_pose(T_WC_at(t0_s + y * line_delay_s));
+    const int ty = y / kTileSize, r = y - ty * kTileSize;
+    for (int tx = 0; tx < tiles_x; ++tx) {
+      const Tile& tile = tiles_[static_cast<std::size_t>(ty) * tiles_x + tx];
+      trace(p, tile, tile.row_begin[r], tile.row_begin[r + 1], out);
+    }
+  }
+}
+
+void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_begin,
+                     std::size_t chunk_end, float* out) const {
+  if (!p.free) {
+    trace_generic(p.T_WC, chunk_begin, chunk_end, out);  // camera outside the room or in a box
+    return;
+  }
+  const float inv_S = 1.0f / static_cast<float>(ss_ * ss_);
+  const Eigen::Matrix3f& R = p.R;
+  const Eigen::Vector3f& o = p.o;
+  const Eigen::Vector3f room_lo = scene_.room_min().cast<float>();
+  const Eigen::Vector3f room_hi = scene_.room_max().cast<float>();
+  const double tpm = scene_.config().texels_per_m;
+  const auto& surfaces = scene_.surfaces();
+  const std::vector<FastSurface>& fs = fs_;
   // Texels (level 0) per sample per metre of distance: one sample spans 1/(f ss) rad.
   const float fp_per_m = static_cast<float>(
       tpm / (0.5 * (camera_->calib().intrinsics[0] + camera_->calib().intrinsics[1]) * ss_));
   const float fp2_per_m2 = fp_per_m * fp_per_m;
   const float angle_per_sample = static_cast<float>(fp_per_m / tpm);
-
-  // Boxes as slabs plus their bounding spheres in the camera frame for tile culling.
-  const auto& boxes = scene_.boxes();
-  const int nb = static_cast<int>(boxes.size());
-  std::vector<float> b_ang(nb);
-  std::vector<Eigen::Vector3f> b_dir(nb), b_lo(nb), b_hi(nb);
-  std::vector<char> b_always(nb);
-  const Eigen::Isometry3d T_CW = T_WC.inverse();
-  for (int b = 0; b < nb; ++b) {
-    b_lo[b] = boxes[b].min_W.cast<float>();
-    b_hi[b] = boxes[b].max_W.cast<float>();
-    const Eigen::Vector3d c_C = T_CW * (0.5 * (boxes[b].min_W + boxes[b].max_W));
-    const double r = 0.5 * (boxes[b].max_W - boxes[b].min_W).norm() * 1.001 + 1e-4;
-    const double dist = c_C.norm();
-    b_always[b] = dist <= r;
-    b_dir[b] = b_always[b] ? Eigen::Vector3f::Zero().eval() : Eigen::Vector3f((c_C / dist).cast<float>());
-    b_ang[b] = b_always[b] ? 0.0f : static_cast<float>(std::asin(r / dist));
-  }
+  const auto& b_lo = box_lo_;
+  const auto& b_hi = box_hi_;
+  const int nb = static_cast<int>(b_lo.size());
 
   const v4f ox = splat(o.x()), oy = splat(o.y()), oz = splat(o.z());
   const v4f zero = splat(0.0f);
-  std::vector<int> cand;
-  cand.reserve(nb);
-  for (const Tile& tile : tiles_) {
-    cand.clear();
-    for (int b = 0; b < nb; ++b) {
-      const float c = std::clamp(tile.axis_C.dot(b_dir[b]), -1.0f, 1.0f);
-      if (b_always[b] || std::acos(c) <= tile.half_angle + b_ang[b]) cand.push_back(b);
+  int cand[kMaxCandidates];
+  int n_cand = 0;
+  std::vector<int> cand_more;  // only for scenes with more boxes in one tile than kMaxCandidates
+  for (int b = 0; b < nb; ++b) {
+    const float c = std::clamp(tile.axis_C.dot(p.b_dir[b]), -1.0f, 1.0f);
+    if (p.b_always[b] || std::acos(c) <= tile.half_angle + p.b_ang[b]) {
+      if (n_cand < kMaxCandidates) {
+        cand[n_cand++] = b;
+      } else {
+        if (cand_more.empty()) cand_more.assign(cand, cand + n_cand);
+        cand_more.push_back(b);
+      }
     }
-    for (std::size_t ci = tile.chunk_begin; ci < tile.chunk_end; ++ci) {
+  }
+  const int* cand_begin = cand_more.empty() ? cand : cand_more.data();
+  const int* cand_end = cand_more.empty() ? cand + n_cand : cand_more.data() + cand_more.size();
+  {
+    for (std::size_t ci = chunk_begin; ci < chunk_end; ++ci) {
       const Chunk& ch = chunks_[ci];
       v4f cx, cy, cz;
       std::memcpy(&cx, ch.x, sizeof(cx));
@@ -242,7 +280,8 @@ void Renderer::render_radiance(const Eigen::Isometry3d& T_WC, float* out) const 
         t = closer ? ta : t;
         surface = closer ? (pos ? splat_i(2 * a + 1) : splat_i(2 * a)) : surface;
       }
-      for (const int b : cand) {
+      for (const int* bp = cand_begin; bp != cand_end; ++bp) {
+        const int b = *bp;
         v4f tn = splat(-std::numeric_limits<float>::infinity());
         v4f tf = splat(std::numeric_limits<float>::infinity());
         v4i face = splat_i(0);
@@ -346,10 +385,18 @@ void Renderer::render(const Eigen::Isometry3d& T_WC, const FrameAppearance& app,
                       cv::Mat* out) const {
   radiance_.resize(static_cast<std::size_t>(width_) * height_);
   render_radiance(T_WC, radiance_.data());
+  expose(app, out);
+}
+
+void Renderer::expose(const FrameAppearance& app, cv::Mat* out) const {
+  if (app.sensor_effects()) {
+    expose_with_effects(app, out);
+    return;
+  }
   out->create(height_, width_, CV_8UC1);
   const float gain = static_cast<float>(app.gain), offset = static_cast<float>(app.offset);
   const float sigma = static_cast<float>(app.noise_sigma);
-  const auto& table = normal_table();
+  const auto& table = detail::normal_table();
   Rng rng(app.noise_seed);
   std::uint64_t bits = 0;
   int left = 0;
@@ -370,25 +417,6 @@ void Renderer::render(const Eigen::Isometry3d& T_WC, const FrameAppearance& app,
       row[x] = static_cast<std::uint8_t>(std::clamp(v, 0.0f, 255.0f) + 0.5f);
     }
   }
-}
-
-FrameAppearance appearance_for_frame(const RenderConfig& c, std::int64_t t_ns, int cam_id,
-                                     std::uint64_t frame_index) {
-  FrameAppearance a;
-  const double t_s = static_cast<double>(t_ns) * 1e-9;
-  Rng phase_rng(derive_seed(c.seed, 77));
-  const double phase = phase_rng.uniform(0.0, 2.0 * std::numbers::pi);
-  const double drift = c.brightness_period_s > 0.0
-                           ? c.brightness_amplitude *
-                                 std::sin(2.0 * std::numbers::pi * t_s / c.brightness_period_s + phase)
-                           : 0.0;
-  const std::uint64_t stream = frame_index * 16 + static_cast<std::uint64_t>(cam_id);
-  Rng jitter_rng(derive_seed(c.seed, 1000 + 2 * stream));
-  a.gain = std::max(0.05, 1.0 + drift + c.brightness_jitter * jitter_rng.normal());
-  a.offset = 0.0;
-  a.noise_sigma = c.noise_sigma;
-  a.noise_seed = derive_seed(c.seed, 1001 + 2 * stream);
-  return a;
 }
 
 }  // namespace vid::sim

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <opencv2/imgproc.hpp>
 
 #include "io/errors.h"
 #include "sim/render/random.h"
@@ -158,22 +159,33 @@ void Scene::make_surfaces() {
     s.v_len = hi[s.v_axis] - lo[s.v_axis];
     s.texture = make_surface_texture(s.u_len, s.v_len, tpm,
                                      derive_seed(config_.texture_seed, stream), style);
+    if (config_.lighting.enabled) apply_lighting(&s);
     s.mips.push_back(s.texture);
     while (s.mips.back().cols > 4 && s.mips.back().rows > 4) s.mips.push_back(half_size(s.mips.back()));
     surfaces_.push_back(std::move(s));
   };
   Rng style_rng(derive_seed(config_.texture_seed, 2000));
+  const LowTextureConfig& low = config_.low_texture;
+  auto make_plain = [&](TextureStyle* st) {  // painted: no shapes, weak smooth shading only
+    st->shape_density = 0.0;
+    st->noise_amplitude = low.noise_amplitude;
+  };
   for (int f = 0; f < 6; ++f) {
     const int axis = f / 2;
     const bool max_side = f % 2 == 1;
     TextureStyle st;
     st.mean_level = axis == 2 ? (max_side ? 150.0 : 100.0) : style_rng.uniform(105.0, 150.0);
     st.level_spread = style_rng.uniform(80.0, 105.0);
+    for (const std::string& name : low.surfaces) {
+      if (room_face_index(name) == f) make_plain(&st);
+    }
     add(axis, max_side ? room_max_[axis] : room_min_[axis], max_side ? -1.0 : 1.0, room_min_,
         room_max_, st, static_cast<std::uint64_t>(f));
   }
+  Rng plain_rng(derive_seed(config_.texture_seed, 3000));  // own stream: styles unchanged
   for (std::size_t b = 0; b < boxes_.size(); ++b) {
     const double mean = style_rng.uniform(70.0, 180.0);
+    const bool plain_box = low.box_fraction > 0.0 && plain_rng.uniform() < low.box_fraction;
     for (int f = 0; f < 6; ++f) {
       const int axis = f / 2;
       const bool max_side = f % 2 == 1;
@@ -181,10 +193,39 @@ void Scene::make_surfaces() {
       // Faces of one box differ a little in brightness, like shading under room light.
       st.mean_level = std::clamp(mean + (axis == 2 ? 20.0 : (axis == 0 ? 0.0 : -15.0)), 70.0, 180.0);
       st.level_spread = style_rng.uniform(80.0, 105.0);
+      if (plain_box) make_plain(&st);
       add(axis, max_side ? boxes_[b].max_W[axis] : boxes_[b].min_W[axis], max_side ? 1.0 : -1.0,
           boxes_[b].min_W, boxes_[b].max_W, st, 6 + 6 * b + static_cast<std::uint64_t>(f));
     }
   }
+}
+
+void Scene::apply_lighting(Surface* s) const {
+  // The lamp term varies slowly: evaluate it every kStep texels and interpolate.
+  constexpr int kStep = 8;
+  const LightingConfig& l = config_.lighting;
+  const double tpm = config_.texels_per_m;
+  const int gw = s->texture.cols / kStep + 2, gh = s->texture.rows / kStep + 2;
+  cv::Mat shade(gh, gw, CV_32F);
+  for (int r = 0; r < gh; ++r) {
+    for (int c = 0; c < gw; ++c) {
+      Eigen::Vector3d p_W;
+      p_W[s->normal_axis] = s->plane;
+      p_W[s->u_axis] = s->u0 + c * kStep / tpm;
+      p_W[s->v_axis] = s->v0 + r * kStep / tpm;
+      const Eigen::Vector3d to_lamp = l.lamp_W - p_W;
+      const double d = std::max(to_lamp.norm(), 1e-3);
+      const double cos_inc = std::max(0.0, s->normal_sign * to_lamp[s->normal_axis] / d);
+      const double lamp = std::min(1.0, cos_inc * (l.reach_m / d) * (l.reach_m / d));
+      shade.at<float>(r, c) = static_cast<float>(l.ambient + (1.0 - l.ambient) * lamp);
+    }
+  }
+  cv::Mat up;
+  cv::resize(shade, up, cv::Size(gw * kStep, gh * kStep), 0, 0, cv::INTER_LINEAR);
+  cv::Mat tex;
+  s->texture.convertTo(tex, CV_32F);
+  cv::multiply(tex, up(cv::Rect(0, 0, tex.cols, tex.rows)), tex);
+  tex.convertTo(s->texture, CV_8U);
 }
 
 std::optional<SceneHit> Scene::intersect(const Eigen::Vector3d& o, const Eigen::Vector3d& d) const {

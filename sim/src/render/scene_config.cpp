@@ -7,6 +7,14 @@
 
 namespace vid::sim {
 
+int room_face_index(const std::string& name) {
+  static const char* const kNames[6] = {"-x", "+x", "-y", "+y", "floor", "ceiling"};
+  for (int f = 0; f < 6; ++f) {
+    if (name == kNames[f]) return f;
+  }
+  return -1;
+}
+
 SceneConfig parse_scene_config(const YAML::Node& scene_node, const std::string& file) {
   SceneConfig c;
   const io::YamlMap m = io::YamlMap::from_node(scene_node, file, "scene");
@@ -45,8 +53,25 @@ SceneConfig parse_scene_config(const YAML::Node& scene_node, const std::string& 
     c.checkerboard.square_size = k.get_double("square_size", c.checkerboard.square_size);
     k.check_unknown();
   }
+  if (m.has("low_texture")) {
+    const io::YamlMap l = m.get_map("low_texture");
+    if (l.has("surfaces")) c.low_texture.surfaces = l.get_strings("surfaces");
+    c.low_texture.box_fraction = l.get_double("box_fraction", c.low_texture.box_fraction);
+    c.low_texture.noise_amplitude = l.get_double("noise_amplitude", c.low_texture.noise_amplitude);
+    l.check_unknown();
+  }
+  if (m.has("lighting")) {
+    const io::YamlMap l = m.get_map("lighting");
+    c.lighting.enabled = true;
+    c.lighting.lamp_W = l.get_vec3("lamp", c.lighting.lamp_W);
+    c.lighting.ambient = l.get_double("ambient", c.lighting.ambient);
+    c.lighting.reach_m = l.get_double("reach_m", c.lighting.reach_m);
+    l.check_unknown();
+  }
   m.accept("boxes");  // read above when present; an empty value means defaults
   m.accept("checkerboard");
+  m.accept("low_texture");
+  m.accept("lighting");
   m.check_unknown();
   validate_scene_config(c, file);
   return c;
@@ -70,6 +95,19 @@ void validate_scene_config(const SceneConfig& c, const std::string& file) {
   if (c.boxes.size_max > c.room_size.minCoeff()) bad("boxes.size_max", "larger than the room");
   if (c.boxes.has_keep_out && (c.boxes.keep_out_max.array() < c.boxes.keep_out_min.array()).any()) {
     bad("boxes.keep_out_max", "must be >= keep_out_min");
+  }
+  for (const std::string& f : c.low_texture.surfaces) {
+    if (room_face_index(f) < 0) bad("low_texture.surfaces", "'" + f + "' is not one of +x, -x, +y, -y, floor, ceiling");
+  }
+  if (!(c.low_texture.box_fraction >= 0.0 && c.low_texture.box_fraction <= 1.0)) {
+    bad("low_texture.box_fraction", "must be in [0, 1]");
+  }
+  if (!(c.low_texture.noise_amplitude >= 0.0 && c.low_texture.noise_amplitude <= 50.0)) {
+    bad("low_texture.noise_amplitude", "must be in [0, 50]");
+  }
+  if (c.lighting.enabled) {
+    if (!(c.lighting.ambient >= 0.0 && c.lighting.ambient <= 1.0)) bad("lighting.ambient", "must be in [0, 1]");
+    if (!(c.lighting.reach_m > 0.0)) bad("lighting.reach_m", "must be > 0");
   }
   const auto& k = c.checkerboard;
   if (!k.enabled) return;

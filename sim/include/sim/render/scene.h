@@ -90,6 +90,8 @@ class Scene {
   void place_boxes();
   void make_surfaces();
   float board_value(double u, double v, double footprint_m) const;
+  /// Multiply a surface's texture by the lamp's light (config.lighting).
+  void apply_lighting(Surface* s) const;
 
   SceneConfig config_;
   Eigen::Vector3d room_min_, room_max_;

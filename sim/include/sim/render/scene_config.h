@@ -19,11 +19,20 @@
 ///     center: [0.0, 1.5]           # along-wall coordinate (y for x walls, x for y walls), z [m]
 ///     squares: [9, 7]              # squares horizontally, vertically
 ///     square_size: 0.08            # [m]
+///   low_texture:                   # optional plain (painted) surfaces
+///     surfaces: [+y, floor]        # room faces: +x, -x, +y, -y, floor, ceiling
+///     box_fraction: 0.3            # share of the boxes with plain faces
+///     noise_amplitude: 4.0         # smooth shading left on them [gray levels]
+///   lighting:                      # optional: one lamp, brightness falls off away from it
+///     lamp: [0.0, 0.0, 3.9]        # W [m]
+///     ambient: 0.5                 # uniform share of the light
+///     reach_m: 3.0                 # lamp share is min(1, cos(incidence) (reach / distance)^2)
 /// ```
 
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace YAML {
 class Node;
@@ -51,6 +60,22 @@ struct CheckerboardConfig {
   double square_size = 0.08;                        ///< [m]
 };
 
+/// @brief Plain surfaces: no shapes, only weak smooth shading (few trackable corners).
+struct LowTextureConfig {
+  std::vector<std::string> surfaces;  ///< room faces: "+x", "-x", "+y", "-y", "floor", "ceiling"
+  double box_fraction = 0.0;          ///< share of the boxes drawn plain, in [0, 1]
+  double noise_amplitude = 4.0;       ///< [gray levels]
+};
+
+/// @brief Uneven room light baked into the textures: ambient + (1 - ambient) * lamp term,
+/// lamp term = min(1, cos(incidence) * (reach_m / distance)^2); no shadows.
+struct LightingConfig {
+  bool enabled = false;
+  Eigen::Vector3d lamp_W{0.0, 0.0, 3.0};
+  double ambient = 0.5;
+  double reach_m = 3.0;
+};
+
 /// @brief Everything that defines the rendered world; same config -> identical scene.
 struct SceneConfig {
   Eigen::Vector3d room_size{12.0, 10.0, 4.0};    ///< [m]
@@ -59,11 +84,16 @@ struct SceneConfig {
   double texels_per_m = 250.0;
   BoxesConfig boxes;
   CheckerboardConfig checkerboard;
+  LowTextureConfig low_texture;
+  LightingConfig lighting;
 };
 
 /// @brief Parse (with io::YamlMap; a null node = all defaults) a `scene:` YAML map. Missing keys keep their defaults; unknown keys and bad
 /// values throw vid::io::ConfigError naming `file` and the key (e.g. "scene.boxes.count").
 SceneConfig parse_scene_config(const YAML::Node& scene_node, const std::string& file);
+
+/// @brief Room face id (Surface ids 0..5) of "-x", "+x", "-y", "+y", "floor", "ceiling"; -1 if none.
+int room_face_index(const std::string& name);
 
 /// @brief Check ranges (positive sizes, board inside its wall, keep-out leaves room, ...);
 /// throws vid::io::ConfigError naming `file`.
