@@ -40,25 +40,10 @@ int main(int argc, char** argv) {
     if (quiet) spdlog::set_level(spdlog::level::warn);
 
     vid::sim::Scenario sc = vid::sim::load_scenario(scenario_file);
-    if (seed) {
-      sc.seed = *seed;
-      sc.trajectory.seed = *seed;
-    }
-    if (duration) {
-      sc.duration_s = *duration;
-      sc.trajectory.duration_s = *duration;
-    }
-    if (heading == "random") {
-      sc.initial_heading_random = true;
-    } else if (!heading.empty()) {
-      try {
-        std::size_t used = 0;
-        sc.initial_heading_deg = std::stod(heading, &used);
-        if (used != heading.size()) throw std::invalid_argument(heading);
-      } catch (const std::exception&) {
-        throw vid::app::UsageError("--initial-heading: expected degrees or 'random', got '" + heading + "'");
-      }
-      sc.initial_heading_random = false;
+    try {
+      vid::sim::apply_run_options(sc, seed, duration, heading);
+    } catch (const std::invalid_argument& e) {
+      throw vid::app::UsageError(e.what());
     }
     if (no_noise) sc.noise = false;
     if (features_only) {

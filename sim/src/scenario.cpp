@@ -7,6 +7,7 @@
 #include <Eigen/LU>
 #include <cmath>
 #include <fstream>
+#include <stdexcept>
 #include <sstream>
 
 #include "io/errors.h"
@@ -407,6 +408,33 @@ YAML::Node load_with_base(const std::filesystem::path& file, int depth) {
 }
 
 }  // namespace
+
+void apply_run_options(Scenario& s, std::optional<std::uint64_t> seed, std::optional<double> duration_s,
+                       const std::string& heading) {
+  if (seed) {
+    s.seed = *seed;
+    s.trajectory.seed = *seed;
+  }
+  if (duration_s) {
+    s.duration_s = *duration_s;
+    s.trajectory.duration_s = *duration_s;
+  }
+  if (heading == "random") {
+    s.initial_heading_random = true;
+  } else if (!heading.empty()) {
+    std::size_t used = 0;
+    double deg = 0.0;
+    try {
+      deg = std::stod(heading, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != heading.size())
+      throw std::invalid_argument("--initial-heading: expected degrees or 'random', got '" + heading + "'");
+    s.initial_heading_deg = deg;
+    s.initial_heading_random = false;
+  }
+}
 
 Scenario load_scenario(const std::filesystem::path& file) {
   const YAML::Node root = load_with_base(file, 0);

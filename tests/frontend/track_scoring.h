@@ -76,9 +76,12 @@ inline double median_of(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+/// @p R_GS: the simulator's rotation from the scene world to the written ground-truth world
+/// (Simulator::R_GS; identity unless the scenario sets groundtruth.initial_heading_deg).
 inline TrackScore score_sequence(const std::filesystem::path& dataset, const FrontendParams& params,
                                  const sim::Scene& scene, bool stereo,
-                                 double kept_min_rate = 0.0) {
+                                 double kept_min_rate = 0.0,
+                                 const Eigen::Matrix3d& R_GS = Eigen::Matrix3d::Identity()) {
   // Pass 1: ground truth and calibration.
   PoseTrack gt;
   std::vector<CameraCalib> cams;
@@ -122,8 +125,10 @@ inline TrackScore score_sequence(const std::filesystem::path& dataset, const Fro
     }
     auto* frame = std::get_if<ImageFrame>(&*m);
     if (!frame) continue;
-    Eigen::Isometry3d T_WI;
+    Eigen::Isometry3d T_WI;  // W: the scene's world
     if (!gt.at(frame->t_ns, &T_WI)) continue;
+    T_WI.linear() = R_GS.transpose() * T_WI.linear();
+    T_WI.translation() = R_GS.transpose() * T_WI.translation();
     cv::Mat left, right;
     for (const auto& ref : frame->images) {
       if (ref.cam_id == cams[0].cam_id) left = cv::imread(ref.path, cv::IMREAD_GRAYSCALE);

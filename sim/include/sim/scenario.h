@@ -89,6 +89,12 @@ Scenario load_scenario(const std::filesystem::path& file);
 /// @brief Same from a YAML string; @p name stands for the file in messages.
 Scenario load_scenario_string(const std::string& text, const std::string& name);
 
+/// @brief Apply vid_sim's run options to a loaded scenario: @p seed and @p duration_s replace
+/// the scenario's (and its trajectory's); @p heading is degrees, "random" (drawn from the
+/// seed) or empty (the scenario's). A malformed heading throws std::invalid_argument.
+void apply_run_options(Scenario& s, std::optional<std::uint64_t> seed, std::optional<double> duration_s,
+                       const std::string& heading);
+
 /// @brief Vehicle parameters for vehicle.yaml (mass, gravity, k_i).
 VehicleParams vehicle_params_of(const Scenario& s);
 
