@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 
+#include "rendered_sequence.h"
 #include "track_scoring.h"
 
 namespace fs = std::filesystem;
@@ -19,37 +20,9 @@ namespace fs = std::filesystem;
 namespace vid {
 namespace {
 
-const fs::path kSim = fs::path(VID_BINARY_DIR) / "bin" / "vid_sim";
-const fs::path kPresets = fs::path(VID_SOURCE_DIR) / "config" / "sim";
-
-struct Rendered {
-  fs::path dir;
-  std::string error;  ///< empty on success
-};
-
-/// Render `preset` for `duration` s unless a rendering newer than vid_sim and the preset exists.
-Rendered render(const std::string& preset, int duration) {
-  const fs::path scenario = kPresets / preset;
-  Rendered r;
-  r.dir = fs::path(VID_BINARY_DIR) / "tests" / "frontend" / "rendered" /
-          (scenario.stem().string() + "_" + std::to_string(duration) + "s");
-  if (!fs::exists(kSim)) return {r.dir, "build vid_sim first: " + kSim.string()};
-  if (!fs::exists(scenario)) return {r.dir, "missing preset " + scenario.string()};
-  const fs::path marker = r.dir / "rendered.ok";
-  const bool fresh = fs::exists(marker) &&
-                     fs::last_write_time(marker) > fs::last_write_time(kSim) &&
-                     fs::last_write_time(marker) > fs::last_write_time(scenario);
-  if (fresh) return r;
-  fs::remove_all(r.dir);
-  fs::create_directories(r.dir.parent_path());
-  const std::string log = r.dir.string() + ".log";
-  const std::string cmd = kSim.string() + " --scenario " + scenario.string() + " --out " +
-                          r.dir.string() + " --duration " + std::to_string(duration) + " > " +
-                          log + " 2>&1";
-  if (std::system(cmd.c_str()) != 0) return {r.dir, "vid_sim failed (see " + log + "): " + cmd};
-  std::ofstream(marker) << "ok\n";
-  return r;
-}
+using test::kPresets;
+using test::render;
+using test::Rendered;
 
 /// Renders and scores both sequences once for all tests of the binary.
 class FrontendScoring : public ::testing::Test {

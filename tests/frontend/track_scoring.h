@@ -24,6 +24,7 @@ namespace vid::test {
 struct TrackScore {
   std::size_t frames = 0;
   double mean_features = 0;       ///< live left tracks per frame
+  double median_features = 0;     ///< ... median over frames
   double median_err_px = 0;       ///< over all observations with age > 0
   double p90_err_px = 0;
   std::size_t tracks = 0;         ///< tracks scored (start point found)
@@ -109,7 +110,7 @@ inline TrackScore score_sequence(const std::filesystem::path& dataset, const Fro
     bool discontinuity = false;
   };
   std::map<std::uint64_t, Born> born;
-  std::vector<double> errs, disp_errs;
+  std::vector<double> errs, disp_errs, features_per_frame;
   TrackScore s;
   double kept = 0, prev = 0, feat = 0, ms = 0, n_right = 0, last_rate = 0;
 
@@ -143,6 +144,7 @@ inline TrackScore score_sequence(const std::filesystem::path& dataset, const Fro
     }
     ++s.frames;
     feat += static_cast<double>(tracker.tracks().size());
+    features_per_frame.push_back(static_cast<double>(tracker.tracks().size()));
     ms += st.ms_total;
     const Eigen::Isometry3d T_WC0 = T_WI * cams[0].T_IC;
     const Eigen::Isometry3d T_C0W = T_WC0.inverse();
@@ -212,6 +214,7 @@ inline TrackScore score_sequence(const std::filesystem::path& dataset, const Fro
   s.drift_fraction = scored ? static_cast<double>(drifted) / static_cast<double>(scored) : 1.0;
   s.mean_track_length = born.empty() ? 0 : len / static_cast<double>(born.size());
   s.mean_features = s.frames ? feat / static_cast<double>(s.frames) : 0;
+  s.median_features = features_per_frame.empty() ? 0 : median_of(features_per_frame);
   s.mean_ms = s.frames ? ms / static_cast<double>(s.frames) : 0;
   s.median_err_px = median_of(errs);
   if (!errs.empty()) {
@@ -231,11 +234,11 @@ inline TrackScore score_sequence(const std::filesystem::path& dataset, const Fro
 
 inline void print_score(const char* name, const TrackScore& s) {
   std::printf(
-      "[%s] frames %zu, features/frame %.1f, median err %.3f px (p90 %.3f), tracks %zu, "
+      "[%s] frames %zu, features/frame %.1f (median %.0f), median err %.3f px (p90 %.3f), tracks %zu, "
       "drift>3px %.2f%%, mean length %.1f frames, stereo %.1f%%, median disparity err %.3f px "
       "(> 1 px: %.2f%%), "
       "kept frame-to-frame %.1f%%, %.2f ms/frame\n",
-      name, s.frames, s.mean_features, s.median_err_px, s.p90_err_px, s.tracks,
+      name, s.frames, s.mean_features, s.median_features, s.median_err_px, s.p90_err_px, s.tracks,
       100 * s.drift_fraction, s.mean_track_length, 100 * s.stereo_fraction, s.median_disp_err_px,
       100 * s.disp_outliers,
       100 * s.kept_fraction, s.mean_ms);
