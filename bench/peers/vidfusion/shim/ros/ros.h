@@ -5,7 +5,9 @@
 // so it is GPL-3.0-or-later like the driver (bench/peers/README.md). It is not ROS code: it
 // provides only the names VID-Fusion's estimator and feature-tracker sources use.
 #pragma once
+// ROS's ros/ros.h brings in <iostream> and more; their sources rely on it (std::cerr).
 #include <cstdint>
+#include <iostream>
 #include <map>
 #include <sstream>
 #include <string>
