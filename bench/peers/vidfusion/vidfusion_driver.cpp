@@ -214,7 +214,7 @@ int main(int argc, char **argv) {
   // IntegrationBase adds n^2 per IMU step for the measurement noise and w^2 dt^2 for the bias
   // random walk); from our continuous densities: sigma_d = density * sqrt(rate).
   const double sq = std::sqrt(imu_rate);
-  const double acc_n = req<double>(imu, "accelerometer_noise_density", imu_yaml) * sq;
+  double acc_n = req<double>(imu, "accelerometer_noise_density", imu_yaml) * sq;
   const double gyr_n = req<double>(imu, "gyroscope_noise_density", imu_yaml) * sq;
   const double acc_w = req<double>(imu, "accelerometer_random_walk", imu_yaml) * sq;
   const double gyr_w = req<double>(imu, "gyroscope_random_walk", imu_yaml) * sq;
@@ -282,6 +282,11 @@ int main(int argc, char **argv) {
   set("gyr_n", fmt(gyr_n));
   set("acc_w", fmt(acc_w));
   set("gyr_w", fmt(gyr_w));
+  // acc_n is a 3x1 matrix in their file: --set acc_n=X gives X on all three axes.
+  if (overrides.count("acc_n")) {
+    acc_n = std::stod(overrides.at("acc_n"));
+    overrides.erase("acc_n");
+  }
   for (auto &kv : overrides) set(kv.first, kv.second);
   const fs::path cfg_path = out / "vf_config" / "config.yaml";
   {
@@ -299,8 +304,7 @@ int main(int argc, char **argv) {
       for (int c = 0; c < 3; ++c) f << (r || c ? ", " : "") << T_BS[4 * r + c];
     f << "]\nextrinsicTranslation: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [" << T_BS[3] << ", "
       << T_BS[7] << ", " << T_BS[11] << "]\n";
-    if (!overrides.count("acc_n"))
-      f << "acc_n: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [" << acc_n << ", " << acc_n << ", "
+    f << "acc_n: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [" << acc_n << ", " << acc_n << ", "
         << acc_n << "]\n";
   }
 
