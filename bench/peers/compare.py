@@ -53,7 +53,7 @@ import numpy as np
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 from compare_vf import render_saved, run_vf  # noqa: E402
 from peers_common import (DEFAULT_SEQS, ROOT, VF_SEQS, ensure_sequence, eval_pair, fmt, frame_ms,  # noqa: E402
-                          loadavg, mono_preset, timed)
+                          loadavg, mono_preset, publish_table, timed)
 
 
 def plot(args, key: str, ev: dict, t_ours: np.ndarray, t_ov: np.ndarray | None):
@@ -244,17 +244,7 @@ def render(args, rows, meta) -> int:
             f"| {pair(o and o['cpu_s'], v and v['cpu_s'], 1)} "
             f"| {ratio} | {feats} |")
     table = "\n".join(lines) + "\n"
-    args.work.mkdir(parents=True, exist_ok=True)
-    (args.work / "table.md").write_text(table)
-    print(table)
-    if args.doc:
-        text = args.doc.read_text()
-        b, e = "<!-- peers-table:begin -->", "<!-- peers-table:end -->"
-        if b not in text or e not in text:
-            raise SystemExit(f"{args.doc}: no {b} ... {e} block")
-        pre, rest = text.split(b, 1)
-        _, post = rest.split(e, 1)
-        args.doc.write_text(pre + b + "\n" + table + e + post)
+    publish_table(table, args.work / "table.md", args.doc, "peers-table")
     return 0
 
 

@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 from peers_common import (ROOT, ensure_sequence, eval_pair, fmt, frame_ms, load_trajectory, loadavg, mono_preset,
-                          timed)
+                          publish_table, timed)
 
 
 def vid_eval_force(args, force_csv: pathlib.Path, traj: pathlib.Path, seq: pathlib.Path,
@@ -237,16 +237,7 @@ def render_vf(args, rows, meta) -> int:
             f"| {rng(r['lag_ours_ms'], 0)} / {rng(r['lag_vf_ms'], 0)} "
             f"| {r['ours_ms']:.2f} / {fmt(r['vf_ms'], 2)} | {ratio} | {init} | {r['span_s'][0]:.1f} |")
     table = "\n".join(lines) + "\n"
-    (args.work / "vf_table.md").write_text(table)
-    print(table)
-    if args.doc:
-        text = args.doc.read_text()
-        b, e = "<!-- vf-table:begin -->", "<!-- vf-table:end -->"
-        if b not in text or e not in text:
-            raise SystemExit(f"{args.doc}: no {b} ... {e} block")
-        pre, rest = text.split(b, 1)
-        _, post = rest.split(e, 1)
-        args.doc.write_text(pre + b + "\n" + table + e + post)
+    publish_table(table, args.work / "vf_table.md", args.doc, "vf-table")
     return 0
 
 

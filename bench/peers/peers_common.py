@@ -154,3 +154,20 @@ def eval_pair(seq: pathlib.Path, ours_dir: pathlib.Path, ov_dir: pathlib.Path | 
 
 def fmt(x, p=3):
     return "n/a" if x is None or (isinstance(x, float) and not np.isfinite(x)) else f"{x:.{p}f}"
+
+
+def publish_table(table: str, out: pathlib.Path, doc: pathlib.Path | None, tag: str) -> None:
+    """Write the markdown table to `out`, print it, and put it between `<!-- TAG:begin -->`
+    and `<!-- TAG:end -->` in `doc` (if given)."""
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(table)
+    print(table)
+    if doc:
+        text = doc.read_text()
+        b, e = f"<!-- {tag}:begin -->", f"<!-- {tag}:end -->"
+        if b not in text or e not in text:
+            raise SystemExit(f"{doc}: no {b} ... {e} block")
+        pre, rest = text.split(b, 1)
+        _, post = rest.split(e, 1)
+        doc.write_text(pre + b + "\n" + table + e + post)
+
