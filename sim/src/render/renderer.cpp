@@ -240,7 +240,6 @@ void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_beg
   const auto& b_hi = box_hi_;
   const int nb = static_cast<int>(b_lo.size());
 
-  const v4f ox = splat(o.x()), oy = splat(o.y()), oz = splat(o.z());
   const v4f zero = splat(0.0f);
   int cand[kMaxCandidates];
   int n_cand = 0;
@@ -258,6 +257,30 @@ void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_beg
   }
   const int* cand_begin = cand_more.empty() ? cand : cand_more.data();
   const int* cand_end = cand_more.empty() ? cand + n_cand : cand_more.data() + cand_more.size();
+  // Slab planes relative to the camera centre, once per tile instead of per chunk (the same
+  // float subtractions, so the same results).
+  struct Slabs {
+    float lo[3], hi[3];
+  };
+  Slabs cand_slabs[kMaxCandidates];
+  std::vector<Slabs> cand_slabs_more;
+  Slabs* slabs = cand_slabs;
+  if (cand_end - cand_begin > kMaxCandidates) {
+    cand_slabs_more.resize(static_cast<std::size_t>(cand_end - cand_begin));
+    slabs = cand_slabs_more.data();
+  }
+  for (const int* bp = cand_begin; bp != cand_end; ++bp) {
+    for (int a = 0; a < 3; ++a) {
+      slabs[bp - cand_begin].lo[a] = b_lo[*bp][a] - o[a];
+      slabs[bp - cand_begin].hi[a] = b_hi[*bp][a] - o[a];
+    }
+  }
+  const Slabs* slabs_end = slabs + (cand_end - cand_begin);
+  float room_lo_o[3], room_hi_o[3];
+  for (int a = 0; a < 3; ++a) {
+    room_lo_o[a] = room_lo[a] - o[a];
+    room_hi_o[a] = room_hi[a] - o[a];
+  }
   {
     for (std::size_t ci = chunk_begin; ci < chunk_end; ++ci) {
       const Chunk& ch = chunks_[ci];
@@ -269,25 +292,24 @@ void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_beg
                         R(1, 0) * cx + R(1, 1) * cy + R(1, 2) * cz,
                         R(2, 0) * cx + R(2, 1) * cy + R(2, 2) * cz};
       const v4f inv[3] = {1.0f / d[0], 1.0f / d[1], 1.0f / d[2]};
-      const v4f org[3] = {ox, oy, oz};
       // Leaving the room: on each axis the exit wall follows the sign of the direction.
       v4f t = splat(std::numeric_limits<float>::infinity());
       v4i surface = splat_i(0);
       for (int a = 0; a < 3; ++a) {
         const v4i pos = inv[a] >= zero;
-        const v4f ta = ((pos ? splat(room_hi[a]) : splat(room_lo[a])) - org[a]) * inv[a];
+        const v4f ta = (pos ? splat(room_hi_o[a]) : splat(room_lo_o[a])) * inv[a];
         const v4i closer = ta < t;
         t = closer ? ta : t;
         surface = closer ? (pos ? splat_i(2 * a + 1) : splat_i(2 * a)) : surface;
       }
-      for (const int* bp = cand_begin; bp != cand_end; ++bp) {
-        const int b = *bp;
+      for (const Slabs* sb = slabs; sb != slabs_end; ++sb) {
+        const int b = cand_begin[sb - slabs];
         v4f tn = splat(-std::numeric_limits<float>::infinity());
         v4f tf = splat(std::numeric_limits<float>::infinity());
         v4i face = splat_i(0);
         for (int a = 0; a < 3; ++a) {
-          const v4f t1 = (splat(b_lo[b][a]) - org[a]) * inv[a];
-          const v4f t2 = (splat(b_hi[b][a]) - org[a]) * inv[a];
+          const v4f t1 = splat(sb->lo[a]) * inv[a];
+          const v4f t2 = splat(sb->hi[a]) * inv[a];
           const v4f lo = vmin(t1, t2);
           const v4i later = lo > tn;
           tn = later ? lo : tn;
