@@ -155,6 +155,9 @@ void Renderer::build_surface_table() {
     f.n_levels = std::min<int>(static_cast<int>(s.mips.size()), 24);
     for (int L = 0; L < f.n_levels; ++L) {
       const cv::Mat& m = s.mips[L];
+      if (static_cast<double>(m.rows) * static_cast<double>(m.step[0]) >= 2147483647.0) {
+        throw std::invalid_argument("Renderer: texture level too large (2 GB or more)");
+      }
       const double scale = scene_.config().texels_per_m / (1 << L);
       f.level[L] = FastLevel{m.ptr<std::uint8_t>(0), m.step[0], static_cast<float>(m.cols) - 1.001f,
                              static_cast<float>(m.rows) - 1.001f, static_cast<float>(scale),
@@ -339,9 +342,12 @@ void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_beg
         // Per lane the two texels of the top and of the bottom row as one 16-bit word each
         // (a single load), then byte unpacking and int->float conversion four lanes at a
         // time: much cheaper than 16 scalar conversions inserted into vectors one by one.
+        // Texel offsets y0 * step + x0 of the four lanes with two vector instructions (they fit
+        // in 32 bits: Renderer::build_surface_table checks the level sizes).
+        const v4i off = y0 * splat_i(static_cast<std::int32_t>(lv.step)) + x0;
         std::uint16_t tw[4], bw[4];
         for (int l = 0; l < 4; ++l) {
-          const std::uint8_t* r0 = lv.data + y0[l] * lv.step + x0[l];
+          const std::uint8_t* r0 = lv.data + static_cast<std::uint32_t>(off[l]);
           const std::uint8_t* r1 = r0 + lv.step;
           tw[l] = static_cast<std::uint16_t>(r0[0] | (r0[1] << 8));
           bw[l] = static_cast<std::uint16_t>(r1[0] | (r1[1] << 8));
