@@ -324,16 +324,41 @@ void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_beg
         t = hit ? tn : t;
         surface = hit ? face + splat_i(6 + 6 * b) : surface;
       }
-      // Common case: all four rays on one textured surface (not the board): vector math, one
-      // mip level for the chunk (its rays are within a pixel or two of each other).
+      // Common case: all four rays on one textured surface: vector math, one mip level for the
+      // chunk (its rays are within a pixel or two of each other).
       const int s0 = surface[0];
       const FastSurface& f0 = fs[s0];
-      if (!f0.board && s0 == surface[1] && s0 == surface[2] && s0 == surface[3] &&
-          ch.pix[0] >= 0 && ch.pix[3] >= 0) {
-        const v4f pu = splat(o[f0.u_axis]) + t * d[f0.u_axis];
-        const v4f pv = splat(o[f0.v_axis]) + t * d[f0.v_axis];
+      bool fast = s0 == surface[1] && s0 == surface[2] && s0 == surface[3] && ch.pix[0] >= 0 &&
+                  ch.pix[3] >= 0;
+      v4f pu, pv;
+      int level = 0;
+      if (fast) {
+        pu = splat(o[f0.u_axis]) + t * d[f0.u_axis];
+        pv = splat(o[f0.v_axis]) + t * d[f0.v_axis];
         const float fp2 = t[0] * t[0] * fp2_per_m2 * std::abs(inv[f0.normal_axis][0]);
-        const FastLevel& lv = f0.level[std::min(half_log2_floor(fp2), f0.n_levels - 1)];
+        level = std::min(half_log2_floor(fp2), f0.n_levels - 1);
+        if (f0.board) {
+          // The board's wall: here only when no lane is on the board (+ margin) and every lane
+          // would pick lane 0's mip level, i.e. when the per-lane code below would do exactly
+          // these float operations; the lanes are then added to the pixel one by one as there.
+          const v4i on = (pu >= splat(f0.board_lo_u)) & (pu <= splat(f0.board_hi_u)) &
+                         (pv >= splat(f0.board_lo_v)) & (pv <= splat(f0.board_hi_v));
+          fast = ch.pix[1] >= 0 && ch.pix[2] >= 0 && (on[0] | on[1] | on[2] | on[3]) == 0;
+          if (fast) {
+            v4f abs_inv_n;
+            v4i bits;
+            std::memcpy(&bits, &inv[f0.normal_axis], sizeof(bits));
+            bits &= 0x7FFFFFFF;  // fabs
+            std::memcpy(&abs_inv_n, &bits, sizeof(abs_inv_n));
+            const v4f fp2_l = t * t * fp2_per_m2 * abs_inv_n;
+            for (int l = 1; l < 4; ++l) {
+              fast = fast && std::min(half_log2_floor(fp2_l[l]), f0.n_levels - 1) == level;
+            }
+          }
+        }
+      }
+      if (fast) {
+        const FastLevel& lv = f0.level[level];
         const v4f tx = vmin(vmax(pu * lv.scale - lv.off_u, zero), splat(lv.max_x));
         const v4f ty = vmin(vmax(pv * lv.scale - lv.off_v, zero), splat(lv.max_y));
         const v4i x0 = __builtin_convertvector(tx, v4i), y0 = __builtin_convertvector(ty, v4i);
@@ -360,7 +385,7 @@ void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_beg
         const v4f e = __builtin_convertvector(bv >> 8, v4f);
         const v4f top = a + fx * (b - a), bot = c + fx * (e - c);
         const v4f value = (top + fy * (bot - top)) * inv_S;
-        if (ch.pix[0] == ch.pix[3]) {  // one pixel (2x2 supersampling): a single store
+        if (!f0.board && ch.pix[0] == ch.pix[3]) {  // one pixel (2x2 supersampling): one store
           out[ch.pix[0]] += (value[0] + value[1]) + (value[2] + value[3]);
         } else {
           for (int l = 0; l < 4; ++l) out[ch.pix[l]] += value[l];
