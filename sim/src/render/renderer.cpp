@@ -155,6 +155,9 @@ void Renderer::build_surface_table() {
     f.n_levels = std::min<int>(static_cast<int>(s.mips.size()), 24);
     for (int L = 0; L < f.n_levels; ++L) {
       const cv::Mat& m = s.mips[L];
+      if (static_cast<double>(m.rows) * static_cast<double>(m.step[0]) >= 2147483647.0) {
+        throw std::invalid_argument("Renderer: texture level too large (2 GB or more)");
+      }
       const double scale = scene_.config().texels_per_m / (1 << L);
       f.level[L] = FastLevel{m.ptr<std::uint8_t>(0), m.step[0], static_cast<float>(m.cols) - 1.001f,
                              static_cast<float>(m.rows) - 1.001f, static_cast<float>(scale),
@@ -240,7 +243,6 @@ void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_beg
   const auto& b_hi = box_hi_;
   const int nb = static_cast<int>(b_lo.size());
 
-  const v4f ox = splat(o.x()), oy = splat(o.y()), oz = splat(o.z());
   const v4f zero = splat(0.0f);
   int cand[kMaxCandidates];
   int n_cand = 0;
@@ -258,6 +260,30 @@ void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_beg
   }
   const int* cand_begin = cand_more.empty() ? cand : cand_more.data();
   const int* cand_end = cand_more.empty() ? cand + n_cand : cand_more.data() + cand_more.size();
+  // Slab planes relative to the camera centre, once per tile instead of per chunk (the same
+  // float subtractions, so the same results).
+  struct Slabs {
+    float lo[3], hi[3];
+  };
+  Slabs cand_slabs[kMaxCandidates];
+  std::vector<Slabs> cand_slabs_more;
+  Slabs* slabs = cand_slabs;
+  if (cand_end - cand_begin > kMaxCandidates) {
+    cand_slabs_more.resize(static_cast<std::size_t>(cand_end - cand_begin));
+    slabs = cand_slabs_more.data();
+  }
+  for (const int* bp = cand_begin; bp != cand_end; ++bp) {
+    for (int a = 0; a < 3; ++a) {
+      slabs[bp - cand_begin].lo[a] = b_lo[*bp][a] - o[a];
+      slabs[bp - cand_begin].hi[a] = b_hi[*bp][a] - o[a];
+    }
+  }
+  const Slabs* slabs_end = slabs + (cand_end - cand_begin);
+  float room_lo_o[3], room_hi_o[3];
+  for (int a = 0; a < 3; ++a) {
+    room_lo_o[a] = room_lo[a] - o[a];
+    room_hi_o[a] = room_hi[a] - o[a];
+  }
   {
     for (std::size_t ci = chunk_begin; ci < chunk_end; ++ci) {
       const Chunk& ch = chunks_[ci];
@@ -269,25 +295,24 @@ void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_beg
                         R(1, 0) * cx + R(1, 1) * cy + R(1, 2) * cz,
                         R(2, 0) * cx + R(2, 1) * cy + R(2, 2) * cz};
       const v4f inv[3] = {1.0f / d[0], 1.0f / d[1], 1.0f / d[2]};
-      const v4f org[3] = {ox, oy, oz};
       // Leaving the room: on each axis the exit wall follows the sign of the direction.
       v4f t = splat(std::numeric_limits<float>::infinity());
       v4i surface = splat_i(0);
       for (int a = 0; a < 3; ++a) {
         const v4i pos = inv[a] >= zero;
-        const v4f ta = ((pos ? splat(room_hi[a]) : splat(room_lo[a])) - org[a]) * inv[a];
+        const v4f ta = (pos ? splat(room_hi_o[a]) : splat(room_lo_o[a])) * inv[a];
         const v4i closer = ta < t;
         t = closer ? ta : t;
         surface = closer ? (pos ? splat_i(2 * a + 1) : splat_i(2 * a)) : surface;
       }
-      for (const int* bp = cand_begin; bp != cand_end; ++bp) {
-        const int b = *bp;
+      for (const Slabs* sb = slabs; sb != slabs_end; ++sb) {
+        const int b = cand_begin[sb - slabs];
         v4f tn = splat(-std::numeric_limits<float>::infinity());
         v4f tf = splat(std::numeric_limits<float>::infinity());
         v4i face = splat_i(0);
         for (int a = 0; a < 3; ++a) {
-          const v4f t1 = (splat(b_lo[b][a]) - org[a]) * inv[a];
-          const v4f t2 = (splat(b_hi[b][a]) - org[a]) * inv[a];
+          const v4f t1 = splat(sb->lo[a]) * inv[a];
+          const v4f t2 = splat(sb->hi[a]) * inv[a];
           const v4f lo = vmin(t1, t2);
           const v4i later = lo > tn;
           tn = later ? lo : tn;
@@ -299,16 +324,41 @@ void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_beg
         t = hit ? tn : t;
         surface = hit ? face + splat_i(6 + 6 * b) : surface;
       }
-      // Common case: all four rays on one textured surface (not the board): vector math, one
-      // mip level for the chunk (its rays are within a pixel or two of each other).
+      // Common case: all four rays on one textured surface: vector math, one mip level for the
+      // chunk (its rays are within a pixel or two of each other).
       const int s0 = surface[0];
       const FastSurface& f0 = fs[s0];
-      if (!f0.board && s0 == surface[1] && s0 == surface[2] && s0 == surface[3] &&
-          ch.pix[0] >= 0 && ch.pix[3] >= 0) {
-        const v4f pu = splat(o[f0.u_axis]) + t * d[f0.u_axis];
-        const v4f pv = splat(o[f0.v_axis]) + t * d[f0.v_axis];
+      bool fast = s0 == surface[1] && s0 == surface[2] && s0 == surface[3] && ch.pix[0] >= 0 &&
+                  ch.pix[3] >= 0;
+      v4f pu, pv;
+      int level = 0;
+      if (fast) {
+        pu = splat(o[f0.u_axis]) + t * d[f0.u_axis];
+        pv = splat(o[f0.v_axis]) + t * d[f0.v_axis];
         const float fp2 = t[0] * t[0] * fp2_per_m2 * std::abs(inv[f0.normal_axis][0]);
-        const FastLevel& lv = f0.level[std::min(half_log2_floor(fp2), f0.n_levels - 1)];
+        level = std::min(half_log2_floor(fp2), f0.n_levels - 1);
+        if (f0.board) {
+          // The board's wall: here only when no lane is on the board (+ margin) and every lane
+          // would pick lane 0's mip level, i.e. when the per-lane code below would do exactly
+          // these float operations; the lanes are then added to the pixel one by one as there.
+          const v4i on = (pu >= splat(f0.board_lo_u)) & (pu <= splat(f0.board_hi_u)) &
+                         (pv >= splat(f0.board_lo_v)) & (pv <= splat(f0.board_hi_v));
+          fast = ch.pix[1] >= 0 && ch.pix[2] >= 0 && (on[0] | on[1] | on[2] | on[3]) == 0;
+          if (fast) {
+            v4f abs_inv_n;
+            v4i bits;
+            std::memcpy(&bits, &inv[f0.normal_axis], sizeof(bits));
+            bits &= 0x7FFFFFFF;  // fabs
+            std::memcpy(&abs_inv_n, &bits, sizeof(abs_inv_n));
+            const v4f fp2_l = t * t * fp2_per_m2 * abs_inv_n;
+            for (int l = 1; l < 4; ++l) {
+              fast = fast && std::min(half_log2_floor(fp2_l[l]), f0.n_levels - 1) == level;
+            }
+          }
+        }
+      }
+      if (fast) {
+        const FastLevel& lv = f0.level[level];
         const v4f tx = vmin(vmax(pu * lv.scale - lv.off_u, zero), splat(lv.max_x));
         const v4f ty = vmin(vmax(pv * lv.scale - lv.off_v, zero), splat(lv.max_y));
         const v4i x0 = __builtin_convertvector(tx, v4i), y0 = __builtin_convertvector(ty, v4i);
@@ -317,9 +367,12 @@ void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_beg
         // Per lane the two texels of the top and of the bottom row as one 16-bit word each
         // (a single load), then byte unpacking and int->float conversion four lanes at a
         // time: much cheaper than 16 scalar conversions inserted into vectors one by one.
+        // Texel offsets y0 * step + x0 of the four lanes with two vector instructions (they fit
+        // in 32 bits: Renderer::build_surface_table checks the level sizes).
+        const v4i off = y0 * splat_i(static_cast<std::int32_t>(lv.step)) + x0;
         std::uint16_t tw[4], bw[4];
         for (int l = 0; l < 4; ++l) {
-          const std::uint8_t* r0 = lv.data + y0[l] * lv.step + x0[l];
+          const std::uint8_t* r0 = lv.data + static_cast<std::uint32_t>(off[l]);
           const std::uint8_t* r1 = r0 + lv.step;
           tw[l] = static_cast<std::uint16_t>(r0[0] | (r0[1] << 8));
           bw[l] = static_cast<std::uint16_t>(r1[0] | (r1[1] << 8));
@@ -332,7 +385,7 @@ void Renderer::trace(const PoseSetup& p, const Tile& tile, std::size_t chunk_beg
         const v4f e = __builtin_convertvector(bv >> 8, v4f);
         const v4f top = a + fx * (b - a), bot = c + fx * (e - c);
         const v4f value = (top + fy * (bot - top)) * inv_S;
-        if (ch.pix[0] == ch.pix[3]) {  // one pixel (2x2 supersampling): a single store
+        if (!f0.board && ch.pix[0] == ch.pix[3]) {  // one pixel (2x2 supersampling): one store
           out[ch.pix[0]] += (value[0] + value[1]) + (value[2] + value[3]);
         } else {
           for (int l = 0; l < 4; ++l) out[ch.pix[l]] += value[l];
