@@ -140,6 +140,25 @@ TEST(FilterState, HealthDetectsNonPdAndNaN) {
   EXPECT_FALSE(h.positive_definite);
 }
 
+TEST(FilterState, HealthSkipsOnlyTheFreshCloneCopy) {
+  // The check leaves out the clone taken at the current time (an exact copy of the IMU pose plus
+  // [w; v] dt_d: P is singular with it, test_time_offset.py has the fast_yaw run LDLT called
+  // non-PD). Everything else is still tested: an indefinite IMU block beside it fails.
+  FilterState s = make_state(true);
+  s.add_time_offset(0.0, 0.02);
+  s.augment_clone(Vector3d(0.2, -0.1, 3.0));
+  s.set_time(s.time() + 33'000'000);
+  s.P().topLeftCorner(s.imu_dim(), s.imu_dim()).diagonal().array() += 1e-6;
+  s.augment_clone(Vector3d(0.2, -0.1, 3.1));
+  EXPECT_TRUE(s.check_and_symmetrize().positive_definite);
+  s.P()(3, 3) = -1e-3;
+  EXPECT_FALSE(s.check_and_symmetrize().positive_definite);
+  s.P()(3, 3) = 1e-2;
+  const int older = s.clones().front().cov_index;
+  s.P()(older + 3, older + 3) = -1e-3;  // an older clone is tested as before
+  EXPECT_FALSE(s.check_and_symmetrize().positive_definite);
+}
+
 // Textbook dense update as the reference.
 void dense_update(MatrixXd& P, const MatrixXd& H, const VectorXd& r, const MatrixXd& R, VectorXd* dx) {
   const MatrixXd S = H * P * H.transpose() + R;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "geometry/so3.h"
 #include "vio_core/covariance.h"
@@ -188,9 +189,21 @@ CovarianceHealth FilterState::check_and_symmetrize() {
   h.max_asymmetry = (P_ - P_.transpose()).cwiseAbs().maxCoeff();
   Eigen::MatrixXd sym = 0.5 * (P_ + P_.transpose());  // temporary: transpose aliases
   P_.swap(sym);
-  // A fresh clone is an exact copy of the IMU pose, so P is only semidefinite right after
-  // augmentation: accept pivots down to a small negative round-off tolerance.
-  Eigen::LDLT<Eigen::MatrixXd> ldlt(P_);
+  // A clone taken at the current time is an exact linear function of the IMU block (and of t_d),
+  // so P is only semidefinite then; LDLT's pivots on a singular P carry round-off amplified by
+  // its condition (-3e-10 where the smallest eigenvalue is -2e-17, a fast-yaw clone with t_d).
+  // Such copies are PSD if the rest is: test the rest, to a small round-off tolerance.
+  std::vector<int> keep;
+  keep.reserve(P_.rows());
+  const auto is_copy = [&](int i) {
+    const auto in = [i](int at, int k) { return i >= at && i < at + k; };
+    return (!clones_.empty() && clones_.back().t_ns == t_ns_ && in(clones_.back().cov_index, 6)) ||
+           (!force_clones_.empty() && force_clones_.back().t_ns == t_ns_ && in(force_clones_.back().cov_index, 3));
+  };
+  for (int i = 0; i < P_.rows(); ++i)
+    if (!is_copy(i)) keep.push_back(i);
+  const Eigen::MatrixXd P_rest = P_(keep, keep);
+  Eigen::LDLT<Eigen::MatrixXd> ldlt(P_rest);
   const double tol = 1e-12 * std::max(1.0, P_.diagonal().cwiseAbs().maxCoeff());
   // (info() flags exact zero pivots, which are legitimate here; the pivots decide.)
   h.positive_definite = ldlt.vectorD().allFinite() && ldlt.vectorD().minCoeff() >= -tol &&
