@@ -71,6 +71,7 @@ const DoubleField kDoubles[] = {
     VID_FIELD(init_sigma_force_rate),
     VID_FIELD(init_sigma_thrust_scale),
     VID_FIELD(init_sigma_time_offset),
+    VID_FIELD(camera_time_jitter),
     VID_FIELD(max_velocity),
     VID_FIELD(max_position_sigma),
 };
@@ -132,6 +133,8 @@ EstimatorParams from_map(const YamlMap& y) {
   if (!(p.flight_phase_hold_s >= 0.0)) y.fail("flight_phase_hold_s", "must be >= 0");
   if (!(p.init_sigma_time_offset >= 0.0 && p.init_sigma_time_offset <= 1.0))
     y.fail("init_sigma_time_offset", "must be in [0, 1] s");
+  if (!(p.camera_time_jitter >= 0.0 && p.camera_time_jitter <= 1.0))
+    y.fail("camera_time_jitter", "must be in [0, 1] s");
   y.check_unknown();
   return p;
 }

@@ -65,7 +65,7 @@ TEST(FilterState, CloneAtAnUncertainTimeCarriesTheTimeOffset) {
   EXPECT_DOUBLE_EQ(s.time_offset_or(0.0), 0.004);
   const MatrixXd P0 = s.P();
   const Vector3d w(0.3, -2.0, 0.7);
-  s.augment_clone(w);
+  s.augment_clone({w, s.imu().v_WI});
   ASSERT_EQ(s.dim(), 25);
   EXPECT_EQ(s.clones().back().cov_index, 19);
   MatrixXd J = MatrixXd::Zero(25, 19);
@@ -140,16 +140,36 @@ TEST(FilterState, HealthDetectsNonPdAndNaN) {
   EXPECT_FALSE(h.positive_definite);
 }
 
+TEST(FilterState, TimestampJitterIsIndependentCloneNoise) {
+  // A frame whose time is off by j ~ N(0, s^2) has the pose at t + j: the clone gets
+  // [w; v][w; v]^T s^2 on its own block and no new correlation (with or without t_d).
+  for (const bool with_td : {false, true}) {
+    FilterState s = make_state(true);
+    s.imu().v_WI = Vector3d(1.0, -0.5, 0.2);
+    if (with_td) s.add_time_offset(0.0, 0.01);
+    FilterState ref = s;
+    const Vector3d w(0.3, -2.0, 0.7);
+    s.augment_clone({w, Vector3d::Zero(), 5e-4});
+    ref.augment_clone({w, Vector3d::Zero(), 0.0});
+    Eigen::Matrix<double, 6, 1> g;
+    g << w, s.imu().v_WI;
+    const int c = s.clones().back().cov_index;
+    MatrixXd expected = ref.P();
+    expected.block(c, c, 6, 6) += 2.5e-7 * g * g.transpose();
+    EXPECT_LT((s.P() - expected).norm(), 1e-15) << with_td;
+  }
+}
+
 TEST(FilterState, HealthSkipsOnlyTheFreshCloneCopy) {
   // The check leaves out the clone taken at the current time (an exact copy of the IMU pose plus
   // [w; v] dt_d: P is singular with it, test_time_offset.py has the fast_yaw run LDLT called
   // non-PD). Everything else is still tested: an indefinite IMU block beside it fails.
   FilterState s = make_state(true);
   s.add_time_offset(0.0, 0.02);
-  s.augment_clone(Vector3d(0.2, -0.1, 3.0));
+  s.augment_clone({Vector3d(0.2, -0.1, 3.0)});
   s.set_time(s.time() + 33'000'000);
   s.P().topLeftCorner(s.imu_dim(), s.imu_dim()).diagonal().array() += 1e-6;
-  s.augment_clone(Vector3d(0.2, -0.1, 3.1));
+  s.augment_clone({Vector3d(0.2, -0.1, 3.1)});
   EXPECT_TRUE(s.check_and_symmetrize().positive_definite);
   s.P()(3, 3) = -1e-3;
   EXPECT_FALSE(s.check_and_symmetrize().positive_definite);

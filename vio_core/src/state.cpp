@@ -67,12 +67,17 @@ void FilterState::reset_imu_fej() {
   imu_fej_.v_WI = imu_.v_WI;
 }
 
-void FilterState::augment_clone(const Eigen::Vector3d& w_I) {
+void FilterState::augment_clone(const CloneTiming& timing) {
   const int n = covariance::append_clone(P_, imu_idx::kTheta, 6);  // J selects dtheta, dp
-  if (time_offset_) {  // pose(t + dt_d) = pose(t) boxplus [w_I dt_d; v_WI dt_d]
+  if (time_offset_) {  // pose(t + dt_d) = pose(t) boxplus [w_I dt_d; v_td_W dt_d]
     Eigen::VectorXd g(6);
-    g << w_I, imu_.v_WI;
+    g << timing.w_I, timing.v_td_W;
     covariance::add_scaled(P_, n, g, time_offset_->cov_index);
+  }
+  if (timing.jitter_s > 0.0) {
+    Eigen::Matrix<double, 6, 1> g;
+    g << timing.w_I, imu_.v_WI;
+    P_.block<6, 6>(n, n) += (timing.jitter_s * timing.jitter_s) * g * g.transpose();
   }
   CloneState c;
   c.t_ns = t_ns_;

@@ -177,6 +177,10 @@ struct EstimatorParams {
   /// cam0's calibrated timeshift_cam_imu with this sigma [s]; 0: t_d fixed at the calibration's
   /// value. README "Camera-IMU time offset".
   double init_sigma_time_offset = 0.0;
+  /// 1-sigma noise of each frame's timestamp against the IMU clock [s] (trigger / exposure
+  /// jitter, independent per frame): the pose change over it is added to every clone as noise.
+  /// README "Camera-IMU time offset".
+  double camera_time_jitter = 0.0;
 
   // --- divergence detection ---
   double max_velocity = 50.0;            ///< |v| above this [m/s] -> diverged

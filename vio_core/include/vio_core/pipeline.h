@@ -32,6 +32,7 @@
 #include "vio_core/force_jump.h"
 #include "vio_core/initializer.h"
 #include "vio_core/measurements.h"
+#include "vio_core/rate_fit.h"
 #include "vio_core/state.h"
 #include "vio_core/thrust_buffer.h"
 #include "vio_core/zero_velocity.h"
@@ -196,8 +197,13 @@ class Pipeline {
   TimeNs imu_clock(TimeNs t_cam) const;
   /// @brief t_d in use [s]: the estimate with the time-offset state, else cam0's calibrated one.
   double time_offset_s() const;
-  /// @brief How far behind the newest stamp IMU samples wait for frames (negative t_d).
+  /// @brief How far behind the newest stamp IMU samples wait for frames (negative t_d) and,
+  /// while t_d is estimated, for the gyro samples after a frame (rate_for_clone).
   TimeNs frame_hold_ns() const;
+  /// @brief The body rate for the time-offset clone Jacobian at @p t (IMU clock): the gyro fitted
+  /// over +-kTdRateHalfWindowNs (rate_fit.h), bias removed; @p fallback (the interpolated
+  /// sample) without enough samples or without the t_d state.
+  Eigen::Vector3d rate_for_clone(TimeNs t, const Eigen::Vector3d& fallback) const;
   void zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest, double sigma_mps,
                               bool landed);
   void check_divergence(bool full);
@@ -220,6 +226,7 @@ class Pipeline {
   ThrustBuffer thrust_;
   std::unique_ptr<msckf::FeatureDatabase> features_;
   std::deque<ImuSample> imu_queue_;
+  std::deque<GyroSample> gyro_history_;  ///< processed samples, the last kTdRateHalfWindowNs (with t_d)
   std::deque<FeatureFrame> frame_queue_;
   std::optional<ImuInput> last_input_;
   std::optional<GroundTruthSample> last_gt_;

@@ -120,6 +120,13 @@ struct CovarianceHealth {
   double max_asymmetry = 0.0;  ///< max |P - P^T| before symmetrization
 };
 
+/// @brief How a frame's true time relates to its clone's (README "Camera-IMU time offset").
+struct CloneTiming {
+  Eigen::Vector3d w_I = Eigen::Vector3d::Zero();   ///< bias-corrected body rate at the clone's time
+  Eigen::Vector3d v_td_W = Eigen::Vector3d::Zero();  ///< world velocity in the t_d coupling
+  double jitter_s = 0.0;  ///< 1-sigma timestamp noise of this frame, independent per frame
+};
+
 /// @brief IMU block + calibration + clones with one joint covariance.
 class FilterState {
  public:
@@ -165,8 +172,10 @@ class FilterState {
   /// clone fully correlated to the IMU pose. The clone's first estimate is the IMU's.
   /// With the time-offset state, the current time is the image's estimated IMU-clock time
   /// t_cam + t_d_hat, and the clone is the pose at the true one: its error is the IMU pose's
-  /// plus [w_I; v_WI] times the offset's error (@p w_I: bias-corrected body rate now).
-  void augment_clone(const Eigen::Vector3d& w_I = Eigen::Vector3d::Zero());
+  /// plus [w_I; v_td_W] times the offset's error (the caller passes the rates it trusts; the
+  /// pipeline's choice is in Pipeline::process_frame). A timestamp jitter adds the pose change
+  /// over it, [w_I; v_WI] jitter_s, as independent noise of the clone.
+  void augment_clone(const CloneTiming& timing = CloneTiming());
   /// @brief Remove the oldest clone (marginalize: drop its rows/cols). No-op without clones.
   void marginalize_oldest_clone();
 
