@@ -7,7 +7,8 @@ and the project's vid_sim is built; skipped otherwise:
 
 Simulates 6 s of the euroc_like preset (stereo images), runs OpenVINS through the driver in
 stereo and mono, and checks outputs: exit code 0, initialization from the still start, a
-finite trajectory of the right length, summary.json keys, and a sane ATE.
+finite trajectory of the right length, summary.json keys, and a sane ATE; and the online
+time offset (--est-time-offset: starts from the calibration, writes time_offset.csv).
 """
 from __future__ import annotations
 
@@ -63,3 +64,33 @@ def test_ov_driver_runs(seq, tmp_path, cams):
     gt = load_trajectory(seq / "mav0/state_groundtruth_estimate0/data.csv")
     ate = compute_ate(est, gt, "posyaw").pos_rmse
     assert ate < 0.3, f"ATE {ate:.3f} m"
+
+
+def test_ov_driver_time_offset(seq, tmp_path):
+    """--est-time-offset: OpenVINS estimates t_d from the calibration's timeshift_cam_imu and the
+    driver writes time_offset.csv (one row per initialized frame, sigma from its covariance)."""
+    import shutil
+
+    cal = tmp_path / "seq"
+    shutil.copytree(seq, cal)
+    with open(cal / "mav0/cam0/sensor.yaml", "a") as f:
+        f.write("timeshift_cam_imu: 0.004\n")
+    out = tmp_path / "ov"
+    r = subprocess.run([str(OV), "--dataset", str(cal), "--out", str(out), "--cams", "2",
+                        "--num-pts", "150", "--clones", "11", "--max-msckf", "60", "--est-time-offset"],
+                       capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    assert "calib_cam_timeoffset: true" in (out / "ov_config/estimator_config.yaml").read_text()
+    assert "timeshift_cam_imu: 0.004" in (out / "ov_config/kalibr_imucam_chain.yaml").read_text()
+    v = np.loadtxt(out / "time_offset.csv", delimiter=",", comments="#", ndmin=2)
+    timing = np.loadtxt(out / "timing.csv", delimiter=",", comments="#", ndmin=2)
+    assert len(v) == int(timing[:, 2].sum())  # one row per initialized frame
+    assert np.all(np.isfinite(v)) and np.all(np.diff(v[:, 0]) > 0)
+    assert v[0, 1] == pytest.approx(0.004) and v[0, 2] == pytest.approx(0.01)  # start: calibration, sigma 10 ms
+    assert np.all(v[:, 2] <= 0.01 + 1e-12) and np.all(v[:, 2] > 0)
+    # the trajectory is stamped on the IMU clock: camera stamp + the current estimate
+    est = np.loadtxt(out / "trajectory_tum.txt")
+    s = json.loads((out / "summary.json").read_text())
+    assert len(est) == s["frames_updated"] > 80
+    t_imu = v[:, 0] * 1e-9 + v[:, 1]
+    assert np.abs(t_imu[None, :] - est[:, :1]).min(axis=1).max() < 2e-6

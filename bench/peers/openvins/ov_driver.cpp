@@ -12,7 +12,9 @@
 //     after the camera time, then the (stereo) frame,
 //   * writes OUT/trajectory_tum.txt (p_WI, q_WI at every updated frame), OUT/timing.csv (per
 //     frame wall ms from "decoded images in memory" to "state read back", plus the features used
-//     in that update) and OUT/summary.json (counts, median/p95/mean ms, peak RSS).
+//     in that update) and OUT/summary.json (counts, median/p95/mean ms, peak RSS),
+//   * with --est-time-offset: estimates the camera-IMU time offset online and writes
+//     OUT/time_offset.csv (per frame: the estimate and its sigma).
 // Images are decoded before the timer starts, as vid_run's timing.total excludes decoding.
 #include <sys/resource.h>
 
@@ -37,6 +39,7 @@
 #include "core/VioManager.h"
 #include "core/VioManagerOptions.h"
 #include "state/State.h"
+#include "state/StateHelper.h"
 #include "types/IMU.h"
 #include "utils/opencv_yaml_parse.h"
 #include "utils/print.h"
@@ -83,6 +86,7 @@ struct Camera {
   std::vector<int> resolution;
   std::vector<double> intrinsics, distortion;
   std::string distortion_model;  // radtan | equidistant
+  double timeshift_cam_imu = 0;  // [s] Kalibr: t_imu = t_cam + shift (0 when absent)
 };
 
 Camera read_camera(const fs::path &yaml) {
@@ -102,6 +106,7 @@ Camera read_camera(const fs::path &yaml) {
     die(yaml.string() + ": unsupported distortion_model " + m);
   std::string model = n["camera_model"] ? n["camera_model"].as<std::string>() : "pinhole";
   if (model != "pinhole") die(yaml.string() + ": camera_model must be pinhole");
+  if (n["timeshift_cam_imu"]) c.timeshift_cam_imu = n["timeshift_cam_imu"].as<double>();
   return c;
 }
 
@@ -235,7 +240,7 @@ std::string merge_config(const fs::path &base, const std::vector<std::pair<std::
 void usage() {
   std::cout << "ov_driver --dataset DIR --out DIR [--cams 1|2] [--num-pts N] [--clones N]\n"
                "          [--max-msckf N] [--max-slam N] [--set key=value]... [--verbosity LEVEL]\n"
-               "          [--base-config OPENVINS_ESTIMATOR_CONFIG.yaml]\n"
+               "          [--base-config OPENVINS_ESTIMATOR_CONFIG.yaml] [--est-time-offset]\n"
                "Runs OpenVINS (GPL-3) on a VID-MSCKF dataset folder; see bench/peers/README.md.\n";
 }
 
@@ -247,6 +252,7 @@ int main(int argc, char **argv) {
   int cams = 2;
   std::map<std::string, std::string> overrides;
   std::string verbosity = "WARNING";
+  bool est_time_offset = false;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -262,6 +268,7 @@ int main(int argc, char **argv) {
     else if (a == "--max-slam") overrides["max_slam"] = next();
     else if (a == "--verbosity") verbosity = next();
     else if (a == "--base-config") base_config = next();
+    else if (a == "--est-time-offset") est_time_offset = true;
     else if (a == "--set") {
       std::string kv = next();
       auto eq = kv.find('=');
@@ -321,6 +328,7 @@ int main(int argc, char **argv) {
         << "  distortion_model: " << k.distortion_model << "\n"
         << "  intrinsics: " << vec(k.intrinsics) << "\n"
         << "  resolution: [" << k.resolution[0] << ", " << k.resolution[1] << "]\n"
+        << "  timeshift_cam_imu: " << k.timeshift_cam_imu << "\n"
         << "  rostopic: /cam" << c << "/image_raw\n";
     }
   }
@@ -336,6 +344,12 @@ int main(int argc, char **argv) {
   set("max_cameras", std::to_string(cams));
   set("use_stereo", cams == 2 ? "true" : "false");
   set("verbosity", "\"" + verbosity + "\"");
+  // Camera-IMU time offset. OpenVINS: calib_dt_CAMtoIMU with t_imu = t_cam + t_off (State.h,
+  // Propagator: clones at t_cam + t_off on the IMU clock), read from cam0's timeshift_cam_imu;
+  // Kalibr's and ours (README "Camera-IMU time offset"): t_imu = t_cam + t_d. Same sign, so our
+  // calibrated value is its starting value as it is. Estimated online only with
+  // --est-time-offset (its initial sigma: 10 ms, State.cpp).
+  if (est_time_offset) set("calib_cam_timeoffset", "true");
   if (cams == 2) {
     // fi_max_baseline bounds (mean depth / baseline of the observing poses). Scale OpenVINS's
     // EuRoC value (40 for a 0.11 m stereo pair) by the baseline ratio, so the same depth range
@@ -372,6 +386,11 @@ int main(int argc, char **argv) {
   std::ofstream traj(out / "trajectory_tum.txt");
   std::ofstream timing(out / "timing.csv");
   timing << "#timestamp [ns],total [ms],initialized,msckf_features,slam_features,clones\n";
+  std::ofstream toff;
+  if (est_time_offset) {
+    toff.open(out / "time_offset.csv");
+    toff << "#timestamp [ns],time_offset [s],sigma [s]\n";  // camera stamp; t_imu = t_cam + time_offset
+  }
   std::vector<double> ms_all, ms_init;
   size_t imu_i = 0, n_frames = 0, n_skipped = 0, n_updated = 0;
   double first_init_s = -1;
@@ -407,15 +426,16 @@ int main(int argc, char **argv) {
     }
 
     const auto t0 = std::chrono::steady_clock::now();
-    // IMU up to and including the first sample at/after the frame (the propagator needs to
-    // bracket the frame time).
+    // IMU up to and including the first sample at/after the frame's IMU-clock time t_cam +
+    // t_off (the propagator needs to bracket it; t_off: the current estimate, 0 by default).
+    const int64_t t_imu_ns = t_ns + std::llround(1e9 * sys->get_state()->_calib_dt_CAMtoIMU->value()(0));
     while (imu_i < imu_data.size()) {
       ov_core::ImuData m;
       m.timestamp = 1e-9 * static_cast<double>(imu_data[imu_i].ns);
       m.wm = imu_data[imu_i].w;
       m.am = imu_data[imu_i].a;
       sys->feed_measurement_imu(m);
-      const bool past = imu_data[imu_i].ns >= t_ns;
+      const bool past = imu_data[imu_i].ns >= t_imu_ns;
       ++imu_i;
       if (past) break;
     }
@@ -427,10 +447,13 @@ int main(int argc, char **argv) {
     size_t n_msckf = 0, n_slam = 0, n_clones = 0;
     Eigen::Vector3d p;
     Eigen::Quaterniond q;
-    double ts = -1;
+    double ts = -1, t_off = 0, t_off_sigma = 0;
     if (init) {
       auto st = sys->get_state();
-      ts = st->_timestamp + st->_calib_dt_CAMtoIMU->value()(0);
+      ts = st->_timestamp;  // camera clock; the IMU pose is at ts + t_off on the IMU clock
+      t_off = st->_calib_dt_CAMtoIMU->value()(0);
+      if (est_time_offset)
+        t_off_sigma = std::sqrt(ov_msckf::StateHelper::get_marginal_covariance(st, {st->_calib_dt_CAMtoIMU})(0, 0));
       p = st->_imu->pos();
       Eigen::Matrix3d R_GtoI = st->_imu->Rot();  // JPL q_GtoI -> R_GtoI
       q = Eigen::Quaterniond(R_GtoI.transpose());
@@ -451,11 +474,18 @@ int main(int argc, char **argv) {
         ms_init.push_back(ms);
         sum_msckf += n_msckf;
         sum_slam += n_slam;
+        // Stamped on the IMU clock (as the ground truth and OpenVINS's ROS odometry): t_cam + t_off.
+        const int64_t tp_ns = t_ns + std::llround(1e9 * t_off);
         char line[256];
         std::snprintf(line, sizeof line, "%lld.%09lld %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n",
-                      static_cast<long long>(t_ns / 1000000000LL), static_cast<long long>(t_ns % 1000000000LL), p.x(),
+                      static_cast<long long>(tp_ns / 1000000000LL), static_cast<long long>(tp_ns % 1000000000LL), p.x(),
                       p.y(), p.z(), q.x(), q.y(), q.z(), q.w());
         traj << line;
+      }
+      if (est_time_offset) {
+        char line[96];
+        std::snprintf(line, sizeof line, "%lld,%.9g,%.6g\n", static_cast<long long>(t_ns), t_off, t_off_sigma);
+        toff << line;
       }
     }
     if (!std::isfinite(p.x()) && init) {
