@@ -1,11 +1,14 @@
 """Camera-IMU time offset (issue #23, README "Camera-IMU time offset"): the simulator stamps
 images t_imu - t_d (cameras.time_offset_s), the estimator places frames at t_cam + t_d, with t_d
 from the calibration (timeshift_cam_imu) or estimated online (init_sigma_time_offset > 0)."""
+import os
 import re
 import shutil
 
 import numpy as np
 import pytest
+from scipy.stats import chi2
+from vid_eval.time_offset_bound import rotation_bound
 
 from test_vid_run_helpers import REPO, simulate, summary, vid_run
 
@@ -20,14 +23,6 @@ def scenario(tmp_path, preset: str, camera_keys: str, timeshift: float = None) -
     path = tmp_path / f"{preset}_clock.yaml"
     path.write_text(text)
     return str(path)
-
-
-def config(tmp_path, sigma: float):
-    cfg = tmp_path / "cfg"
-    shutil.copytree(REPO / "config" / "sim", cfg)
-    with open(cfg / "estimator.yaml", "a") as f:
-        f.write(f"\ninit_sigma_time_offset: {sigma}\n")
-    return cfg
 
 
 def offset_series(out):
@@ -51,11 +46,25 @@ def test_calibrated_offset_is_applied(tmp_path, offset):
     assert b["force_rmse_world_mps2"] <= 1.1 * a["force_rmse_world_mps2"]
 
 
+def config(tmp_path, sigma: float, jitter: float = 0.0):
+    cfg = tmp_path / "cfg"
+    shutil.copytree(REPO / "config" / "sim", cfg)
+    with open(cfg / "estimator.yaml", "a") as f:
+        f.write(f"\ninit_sigma_time_offset: {sigma}\ncamera_time_jitter: {jitter}\n")
+    return cfg
+
+
+def at_seconds(t, values, seconds):
+    return np.array([values[min(np.searchsorted(t, s), len(t) - 1)] for s in seconds])
+
+
 @pytest.mark.parametrize("preset", ["vid18_like", "fast_yaw"])
 def test_offset_estimated_online_noise_free(tmp_path, preset):
     """From t_d = 0 with sigma 20 ms, a true 10 ms offset (noise-free sensors): within 0.5 ms from
-    10 s on, and the estimate's sigma covers its error. On fast_yaw (3 rad/s) the fresh clone's
-    exact copy of the IMU pose once made the covariance check call P non-PD at 1.4 s."""
+    10 s on, the estimate's sigma covers its error, and the sigma is the rotation path's
+    information bound (vid_eval.time_offset_bound) within 30 %: the filter uses what the flight
+    offers. On fast_yaw (3 rad/s) the fresh clone's exact copy of the IMU pose once made the
+    covariance check call P non-PD at 1.4 s."""
     seq = simulate(tmp_path / "seq", scenario(tmp_path, preset, "  time_offset_s: 0.010\n"), 20.0, 1, True,
                    noise_free=True)
     out = tmp_path / "out"
@@ -65,10 +74,52 @@ def test_offset_estimated_online_noise_free(tmp_path, preset):
     late = t >= 10.0
     assert np.abs(td[late] - 0.010).max() <= 0.0005, f"max error {np.abs(td[late] - 0.010).max() * 1e3:.2f} ms"
     assert np.all(np.abs(td[late] - 0.010) <= 3 * sigma[late])
+    imu = np.loadtxt(seq / "mav0" / "imu0" / "data.csv", delimiter=",", comments="#")
+    t_imu = (imu[:, 0] - imu[0, 0]) * 1e-9
+    t0 = (np.loadtxt(out / "time_offset.csv", delimiter=",", comments="#")[0, 0] - imu[0, 0]) * 1e-9
+    bound = rotation_bound(t_imu, imu[:, 1:4], 1.0e-3, [t0 + 10.0, t0 + 19.5])  # config/sim gyro_noise_density
+    ratio = at_seconds(t, sigma, [10.0, 19.5]) / bound
+    assert np.all((ratio >= 0.95) & (ratio <= 1.3)), f"sigma / bound {ratio}"
 
 
-@pytest.mark.xfail(strict=True, reason="issue #23: with sensor noise the estimate stays ms away from a true "
-                                       "10 ms (fast_yaw 7.8 ms) with a sigma of 0.2 ms (README)")
+def mc_runs(tmp_path, presets, seeds, keys, jitter, *args):
+    """t_d error and sigma at 15 and 19.5 s of every (preset, seed) run, estimated from 0."""
+    cfg = config(tmp_path, 0.02, jitter)
+    errors, sigmas = [], []
+    for preset in presets:
+        for seed in seeds:
+            seq = simulate(tmp_path / f"{preset}_{seed}", scenario(tmp_path, preset, keys), 20.5, seed, True)
+            out = tmp_path / f"out_{preset}_{seed}"
+            r = vid_run(seq, out, "--config", str(cfg), *args)
+            assert r.returncode == 0, r.stderr
+            t, td, sigma = offset_series(out)
+            truth = float(re.search(r"time_offset_s: ([-\d.e]+)", keys).group(1))
+            errors.append(at_seconds(t, td, [15.0, 19.5]) - truth)
+            sigmas.append(at_seconds(t, sigma, [15.0, 19.5]))
+    return np.array(errors), np.array(sigmas)
+
+
+MC_SEEDS = [1, 2, 3] if os.environ.get("CI") else [1, 2, 3, 4, 5]
+
+
+@pytest.mark.parametrize("offset,mode", [(0.010, "dynamics"), (-0.010, "dynamics"), (0.010, "imu")])
+def test_offset_consistent_with_sensor_noise(tmp_path, offset, mode):
+    """Sensor noise, a true +-10 ms offset with 0.5 ms frame jitter (camera_time_jitter told),
+    vid17_like / vid18_like / fast_yaw: the mean NEES of t_d over the runs is
+    inside the two-sided 95 % chi^2 band (README table: 0.2-0.3 ms sigma with 20 mrad/s of gyro
+    noise per sample in the clone Jacobian was 2-27 ms off). At 15 and 19.5 s: at 10 s the
+    -10 ms runs on vid17_like still lag (mean NEES 2.1 over 15 runs, README)."""
+    args = ("--mode", "imu") if mode == "imu" else ()
+    e, s = mc_runs(tmp_path, ["vid17_like", "vid18_like", "fast_yaw"], MC_SEEDS,
+                   f"  time_offset_s: {offset}\n  time_offset_jitter_s: 0.0005\n", 0.0005, *args)
+    n = e.shape[0]
+    nees = np.mean((e / s) ** 2, axis=0)
+    lo, hi = chi2.ppf(0.025, n) / n, chi2.ppf(0.975, n) / n
+    assert np.all((nees >= lo) & (nees <= hi)), f"mean NEES {nees} over {n} runs, band [{lo:.2f}, {hi:.2f}]"
+
+
+@pytest.mark.xfail(strict=True, reason="issue #23: 0.5 ms after 10 s is below what vid18_like's rotation can tell: "
+                                       "the information bound is 1.9-3.1 ms at 10 s (README)")
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_offset_estimated_online(tmp_path, seed):
     """The issue's criterion: from a true 10 ms offset (0.5 ms jitter), within 0.5 ms after 10 s."""
@@ -76,7 +127,21 @@ def test_offset_estimated_online(tmp_path, seed):
                                               "  time_offset_s: 0.010\n  time_offset_jitter_s: 0.0005\n"),
                    20.0, seed, True)
     out = tmp_path / "out"
-    r = vid_run(seq, out, "--config", str(config(tmp_path, 0.02)))
+    r = vid_run(seq, out, "--config", str(config(tmp_path, 0.02, 0.0005)))
     assert r.returncode == 0, r.stderr
     t, td, _ = offset_series(out)
     assert np.abs(td[t >= 10.0] - 0.010).max() <= 0.0005
+
+
+def test_rotation_bound_matches_the_closed_form():
+    """w = A sin(2 pi f t) on one axis: integral alpha^2 over T = A^2 (2 pi f)^2 T / 2, so
+    sigma = sigma_g / (A 2 pi f sqrt(T / 2)); the local-quadratic slope (for a measured gyro)
+    gives the same on the clean signal."""
+    t = np.arange(0, 20.0, 0.0025)
+    A, f, sg = 0.5, 0.5, 1e-3
+    w = np.zeros((t.size, 3))
+    w[:, 2] = A * np.sin(2 * np.pi * f * t)
+    expected = sg / (A * 2 * np.pi * f * np.sqrt(np.array([10.0, 19.0]) / 2))
+    got = rotation_bound(t, w, sg, [10.0, 19.0])
+    np.testing.assert_allclose(got, expected, rtol=0.01)
+    np.testing.assert_allclose(rotation_bound(t, w, sg, [10.0, 19.0], half_window_s=0.1), expected, rtol=0.02)

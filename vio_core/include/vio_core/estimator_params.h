@@ -175,7 +175,8 @@ struct EstimatorParams {
   double init_sigma_thrust_scale = 0.3;  ///< [-] (with thrust_scale_random_walk > 0)
   /// > 0 estimates the camera-IMU time offset t_d (t_imu = t_cam + t_d) online, starting from
   /// cam0's calibrated timeshift_cam_imu with this sigma [s]; 0: t_d fixed at the calibration's
-  /// value. README "Camera-IMU time offset".
+  /// value. While estimated, every frame waits 0.4 s for the gyro samples after it (outputs come
+  /// that much later). README "Camera-IMU time offset".
   double init_sigma_time_offset = 0.0;
   /// 1-sigma noise of each frame's timestamp against the IMU clock [s] (trigger / exposure
   /// jitter, independent per frame): the pose change over it is added to every clone as noise.

@@ -24,7 +24,7 @@ struct GyroSample {
 /// between clones (README "Camera-IMU time offset"), a few mrad/s at 0.1 rad/s^2. One sample of
 /// the seed's gyro carries 20 mrad/s of white noise; in the clone Jacobian that noise reads as
 /// information the images never gave (t_d locked ms away with a sigma of 0.3 ms). A fit over
-/// +-0.25 s leaves ~2 mrad/s, correlated from clone to clone, which the estimate tolerates.
+/// +-0.4 s leaves ~1.5 mrad/s, correlated from clone to clone, which the estimate tolerates.
 /// @return nullopt with fewer than 8 samples in the window (the caller falls back).
 std::optional<Eigen::Vector3d> fit_rate(const std::vector<GyroSample>& samples, TimeNs t_ns, TimeNs half_window_ns);
 
