@@ -9,7 +9,7 @@
 //   * writes OpenVINS's estimator_config.yaml / kalibr_imu_chain.yaml / kalibr_imucam_chain.yaml
 //     from our calibration into OUT/ov_config/ (--set key=value overrides estimator keys),
 //   * feeds VioManager in time order: every IMU sample up to and including the first one at or
-//     after the camera time, then the (stereo) frame,
+//     after the frame's IMU-clock time (camera time + t_off), then the (stereo) frame,
 //   * writes OUT/trajectory_tum.txt (p_WI, q_WI at every updated frame), OUT/timing.csv (per
 //     frame wall ms from "decoded images in memory" to "state read back", plus the features used
 //     in that update) and OUT/summary.json (counts, median/p95/mean ms, peak RSS),
