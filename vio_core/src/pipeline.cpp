@@ -27,9 +27,9 @@ double ms_since(Clock::time_point t0) {
 constexpr TimeNs kMaxSubstepNs = 10'000'000;  // 10 ms sub-steps over IMU gaps
 constexpr TimeNs kGtInitToleranceNs = 20'000'000;
 // Half window of the gyro fit in the time-offset clone Jacobian (rate_fit.h). 0.1 and 0.15 s
-// left t_d inconsistent on the gentle flights (NEES of single runs up to 81 and 51); 0.25 s was
-// consistent from 15 s on, 0.4 s is closer at 10 s (README "Camera-IMU time offset"). Frames
-// wait this long for the later gyro samples while t_d is estimated.
+// left t_d inconsistent on the gentle flights (NEES of single runs up to 81 and 51), 0.25 s
+// lagged more than 0.4 s at 10 s (README "Camera-IMU time offset"). Frames wait this long for
+// the later gyro samples while t_d is estimated.
 constexpr TimeNs kTdRateHalfWindowNs = 400'000'000;
 
 }  // namespace
@@ -287,7 +287,7 @@ void Pipeline::process_imu(const ImuInput& in) {
     }
     integrate_to(a, in, f.t_ns, noise_scale, thrust_scale);
     a = interpolate(a, in, f.t_ns);
-    process_frame(f, stamp, rate_for_clone(f.t_ns, a.gyro) - state_.imu().b_g);
+    process_frame(f, stamp, rate_for_clone(f.t_ns, a.gyro));
     if (status_ == FilterStatus::kDiverged) return;
   }
   integrate_to(a, in, in.t, noise_scale, thrust_scale);

@@ -190,7 +190,7 @@ class Pipeline {
   void integrate_to(const ImuInput& a, const ImuInput& b, TimeNs t_end, double noise_scale,
                     double thrust_scale);
   /// @brief One camera frame at f.t_ns (IMU clock); @p stamp is its camera stamp (timings),
-  /// @p w_I the bias-corrected body rate at f.t_ns (the clone's time-offset Jacobian).
+  /// @p w_I the body rate at f.t_ns for the clone's time-offset Jacobian (rate_for_clone).
   void process_frame(const FeatureFrame& f, TimeNs stamp, const Eigen::Vector3d& w_I);
   /// @brief IMU-clock time of a camera stamp: t_cam + t_d (the estimate with the time-offset
   /// state, else cam0's calibrated timeshift_cam_imu).
@@ -201,8 +201,10 @@ class Pipeline {
   /// while t_d is estimated, for the gyro samples after a frame (rate_for_clone).
   TimeNs frame_hold_ns() const;
   /// @brief The body rate for the time-offset clone Jacobian at @p t (IMU clock): the gyro fitted
-  /// over +-kTdRateHalfWindowNs (rate_fit.h), bias removed; @p fallback (the interpolated
-  /// sample) without enough samples or without the t_d state.
+  /// over +-kTdRateHalfWindowNs (rate_fit.h), its bias left in (a constant is the same for every
+  /// clone and tells t_d nothing, while the bias estimate, corrected by the same updates in the
+  /// first seconds, put update-correlated steps into the rate: -10 ms runs lagged 18 ms at 10 s);
+  /// @p fallback (the interpolated sample) without enough samples or without the t_d state.
   Eigen::Vector3d rate_for_clone(TimeNs t, const Eigen::Vector3d& fallback) const;
   void zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest, double sigma_mps,
                               bool landed);

@@ -122,7 +122,7 @@ struct CovarianceHealth {
 
 /// @brief How a frame's true time relates to its clone's (README "Camera-IMU time offset").
 struct CloneTiming {
-  Eigen::Vector3d w_I = Eigen::Vector3d::Zero();   ///< bias-corrected body rate at the clone's time
+  Eigen::Vector3d w_I = Eigen::Vector3d::Zero();   ///< body rate at the clone's time (Pipeline::rate_for_clone)
   Eigen::Vector3d v_td_W = Eigen::Vector3d::Zero();  ///< world velocity in the t_d coupling
   double jitter_s = 0.0;  ///< 1-sigma timestamp noise of this frame, independent per frame
 };
