@@ -27,9 +27,9 @@ double ms_since(Clock::time_point t0) {
 constexpr TimeNs kMaxSubstepNs = 10'000'000;  // 10 ms sub-steps over IMU gaps
 constexpr TimeNs kGtInitToleranceNs = 20'000'000;
 // Half window of the gyro fit in the time-offset clone Jacobian (rate_fit.h). 0.1 and 0.15 s
-// left t_d inconsistent on the gentle flights (NEES of single runs up to 81 and 51), 0.25 s
-// lagged more than 0.4 s at 10 s (README "Camera-IMU time offset"). Frames wait this long for
-// the later gyro samples while t_d is estimated.
+// left t_d inconsistent on the gentle flights (NEES of single runs up to 81 and 51), with 0.25 s
+// the estimate still lagged more at 10 s than with 0.4 s (README "Camera-IMU time offset").
+// Frames wait this long for the later gyro samples while t_d is estimated.
 constexpr TimeNs kTdRateHalfWindowNs = 400'000'000;
 
 }  // namespace
@@ -330,7 +330,8 @@ void Pipeline::integrate_to(const ImuInput& a, const ImuInput& b, TimeNs t_end, 
 TimeNs Pipeline::frame_hold_ns() const {
   // A frame stamped t_cam belongs at t_cam + t_d on the IMU clock: with t_d < 0 it arrives after
   // the IMU samples it precedes. Hold IMU samples until the stamps of the other streams are
-  // -t_d ahead (plus 3 sigma while t_d is estimated), at most 0.2 s.
+  // -t_d ahead (plus 3 sigma while t_d is estimated), at most 0.2 s; while t_d is estimated, also
+  // for the gyro fit after each frame (rate_for_clone).
   const double hold_s = -time_offset_s() + 3.0 * state_.time_offset_sigma();
   const TimeNs fit_ns = config_.params.init_sigma_time_offset > 0.0 ? kTdRateHalfWindowNs : 0;
   return static_cast<TimeNs>(std::llround(std::clamp(hold_s, 0.0, 0.2) * 1e9)) + fit_ns;
@@ -364,8 +365,8 @@ void Pipeline::process_frame(const FeatureFrame& f, TimeNs stamp, const Eigen::V
   // The clone's time-offset Jacobian [w_I; v]: the rate fitted to the gyro, and no velocity.
   // The position path carries next to no information on t_d here (the rotation path alone
   // predicts the filter's sigma, README), while the filter's velocity, corrected at every frame,
-  // put frame-to-frame noise into it that read as information (t_d mean NEES 5-130 with it,
-  // 0.2-3 without). The pose is still taken at t_cam + t_d_hat; only the coupling is left out.
+  // put frame-to-frame noise into it that read as information (t_d NEES per run up to 180 with
+  // it, 0.2-5 without). The pose is still taken at t_cam + t_d_hat; only the coupling is left out.
   state_.augment_clone({w_I, Eigen::Vector3d::Zero(), p.camera_time_jitter});
   const bool force_cloned = smoother_frame_start();
   FeatureFrame usable;
