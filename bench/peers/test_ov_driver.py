@@ -13,29 +13,20 @@ time offset (--est-time-offset: starts from the calibration, writes time_offset.
 from __future__ import annotations
 
 import json
-import os
-import pathlib
 import subprocess
-import sys
 
 import numpy as np
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-OV = pathlib.Path(os.environ.get("VID_OV_DRIVER", ROOT / "build-peers" / "bin" / "ov_driver"))
-BIN = pathlib.Path(os.environ.get("VID_BIN", ROOT / "build" / "bin"))
-sys.path.insert(0, str(ROOT / "eval"))
+from driver_test_common import driver, simulate, skip_without
 
-pytestmark = pytest.mark.skipif(not OV.exists() or not (BIN / "vid_sim").exists(),
-                                reason="peer build (build-peers/bin/ov_driver) or vid_sim not present")
+OV = driver("VID_OV_DRIVER", "ov_driver")
+pytestmark = skip_without(OV, "ov_driver")
 
 
 @pytest.fixture(scope="module")
 def seq(tmp_path_factory):
-    d = tmp_path_factory.mktemp("peers") / "euroc_like_6s"
-    subprocess.run([str(BIN / "vid_sim"), "--scenario", str(ROOT / "config/sim/euroc_like.yaml"),
-                    "--out", str(d), "--duration", "6", "--quiet"], check=True)
-    return d
+    return simulate(tmp_path_factory, "euroc_like", 6)
 
 
 @pytest.mark.parametrize("cams", [2, 1])

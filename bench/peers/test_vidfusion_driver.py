@@ -15,7 +15,6 @@ compare.py measures, not what this smoke test checks.
 from __future__ import annotations
 
 import json
-import os
 import pathlib
 import subprocess
 import sys
@@ -23,21 +22,15 @@ import sys
 import numpy as np
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-VF = pathlib.Path(os.environ.get("VID_VF_DRIVER", ROOT / "build-peers" / "bin" / "vidfusion_driver"))
-BIN = pathlib.Path(os.environ.get("VID_BIN", ROOT / "build" / "bin"))
-sys.path.insert(0, str(ROOT / "eval"))
+from driver_test_common import driver, simulate, skip_without
 
-pytestmark = pytest.mark.skipif(not VF.exists() or not (BIN / "vid_sim").exists(),
-                                reason="peer build (build-peers/bin/vidfusion_driver) or vid_sim not present")
+VF = driver("VID_VF_DRIVER", "vidfusion_driver")
+pytestmark = skip_without(VF, "vidfusion_driver")
 
 
 @pytest.fixture(scope="module")
 def seq(tmp_path_factory):
-    d = tmp_path_factory.mktemp("peers") / "vid17_like_15s"
-    subprocess.run([str(BIN / "vid_sim"), "--scenario", str(ROOT / "config/sim/vid17_like.yaml"),
-                    "--out", str(d), "--duration", "15", "--quiet"], check=True)
-    return d
+    return simulate(tmp_path_factory, "vid17_like", 15)
 
 
 def test_vidfusion_driver_runs(seq, tmp_path):

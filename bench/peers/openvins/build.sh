@@ -11,28 +11,17 @@
 # Needs: bash scripts/setup.sh --peers (Boost), plus the project's default deps (Eigen, OpenCV
 # with contrib/aruco, Ceres, yaml-cpp).
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../../.." && pwd)"
-BUILD="${1:-$ROOT/build-peers}"
+source "$(dirname "${BASH_SOURCE[0]}")/../build_common.sh" "$@"  # ROOT BUILD JOBS NICE
 TARBALL="${OV_TARBALL:-$ROOT/../shared/peers/open_vins-6948812.tar.gz}"
-JOBS="${JOBS:-2}"
-NICE="${NICE:-19}"
 ARCH="${OV_ARCH:-x86-64-v3}"
-case "$BUILD" in "$ROOT"/bench/*|"$ROOT"/vio_core/*|"$ROOT"/io/*) echo "build dir must not be in the source tree" >&2; exit 2;; esac
 
-ARCH_FLAGS=""
-[[ "$ARCH" != baseline ]] && ARCH_FLAGS="-march=$ARCH"
+peers_arch_flags "$ARCH"
 # -faligned-new: OpenVINS is C++14; with AVX, Eigen members need 32-byte aligned operator new
 # in std::make_shared (C++17 does it by default, C++14 needs the flag).
 CXXFLAGS_ALL="$ARCH_FLAGS -faligned-new"
 
 SRC="$BUILD/src/open_vins"
-STAMP="$BUILD/src/.unpacked_$(sha256sum "$TARBALL" | cut -c1-16)"
-if [[ ! -f "$STAMP" ]]; then
-  echo "[peers] unpacking $TARBALL -> $BUILD/src"
-  rm -rf "$BUILD/src"; mkdir -p "$BUILD/src"
-  tar -xzf "$TARBALL" -C "$BUILD/src"
-  touch "$STAMP"
-fi
+peers_unpack "$TARBALL" .unpacked_ "$BUILD/src"
 
 # -g0 in the Release flags (which come after its own "-g3" on the command line): no debug info,
 # which only cuts compile time and memory on this shared machine; code generation is the same.

@@ -45,41 +45,13 @@
 #include "utils/print.h"
 #include "utils/sensor_data.h"
 
+#define PEER_DRIVER_NAME "ov_driver"
+#include "../driver_common.h"
+
 namespace fs = std::filesystem;
+using namespace peers;
 
 namespace {
-
-[[noreturn]] void die(const std::string &msg) {
-  std::cerr << "ov_driver: " << msg << "\n";
-  std::exit(1);
-}
-
-// Our sensor.yaml files may begin with "%YAML:1.0" (OpenCV copies); yaml-cpp rejects that line.
-YAML::Node load_yaml(const fs::path &p) {
-  std::ifstream f(p);
-  if (!f) die("cannot open " + p.string());
-  std::stringstream ss;
-  std::string line;
-  bool first = true;
-  while (std::getline(f, line)) {
-    if (first && line.rfind("%YAML", 0) == 0) {
-      first = false;
-      continue;
-    }
-    first = false;
-    ss << line << "\n";
-  }
-  try {
-    return YAML::Load(ss.str());
-  } catch (const std::exception &e) {
-    die(p.string() + ": " + e.what());
-  }
-}
-
-template <typename T> T req(const YAML::Node &n, const std::string &key, const fs::path &p) {
-  if (!n[key]) die(p.string() + ": missing key '" + key + "'");
-  return n[key].as<T>();
-}
 
 struct Camera {
   std::vector<double> T_BS;  // 16, row-major, pose of camera in IMU (T_IC)
@@ -108,55 +80,6 @@ Camera read_camera(const fs::path &yaml) {
   if (model != "pinhole") die(yaml.string() + ": camera_model must be pinhole");
   if (n["timeshift_cam_imu"]) c.timeshift_cam_imu = n["timeshift_cam_imu"].as<double>();
   return c;
-}
-
-struct ImuSample {
-  int64_t ns;
-  Eigen::Vector3d w, a;
-};
-
-std::vector<std::string> split_csv(const std::string &line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string tok;
-  while (std::getline(ss, tok, ',')) out.push_back(tok);
-  return out;
-}
-
-std::vector<ImuSample> read_imu(const fs::path &csv) {
-  std::ifstream f(csv);
-  if (!f) die("cannot open " + csv.string());
-  std::vector<ImuSample> v;
-  std::string line;
-  size_t ln = 0;
-  while (std::getline(f, line)) {
-    ++ln;
-    if (line.empty() || line[0] == '#') continue;
-    auto t = split_csv(line);
-    if (t.size() < 7) die(csv.string() + ":" + std::to_string(ln) + ": need 7 columns");
-    ImuSample s;
-    s.ns = std::stoll(t[0]);
-    s.w = {std::stod(t[1]), std::stod(t[2]), std::stod(t[3])};
-    s.a = {std::stod(t[4]), std::stod(t[5]), std::stod(t[6])};
-    v.push_back(s);
-  }
-  return v;
-}
-
-std::vector<std::pair<int64_t, std::string>> read_frames(const fs::path &csv) {
-  std::ifstream f(csv);
-  if (!f) die("cannot open " + csv.string());
-  std::vector<std::pair<int64_t, std::string>> v;
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    auto t = split_csv(line);
-    if (t.size() < 2) continue;
-    std::string name = t[1];
-    while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
-    v.emplace_back(std::stoll(t[0]), name);
-  }
-  return v;
 }
 
 std::string vec(const std::vector<double> &v) {
@@ -269,12 +192,8 @@ int main(int argc, char **argv) {
     else if (a == "--verbosity") verbosity = next();
     else if (a == "--base-config") base_config = next();
     else if (a == "--est-time-offset") est_time_offset = true;
-    else if (a == "--set") {
-      std::string kv = next();
-      auto eq = kv.find('=');
-      if (eq == std::string::npos) die("--set needs key=value");
-      overrides[kv.substr(0, eq)] = kv.substr(eq + 1);
-    } else if (a == "-h" || a == "--help") {
+    else if (a == "--set") parse_set(next(), overrides);
+    else if (a == "-h" || a == "--help") {
       usage();
       return 0;
     } else
@@ -285,7 +204,7 @@ int main(int argc, char **argv) {
     return 1;
   }
   if (cams != 1 && cams != 2) die("--cams must be 1 or 2");
-  if (fs::exists(dataset / "mav0")) dataset /= "mav0";
+  dataset = dataset_root(dataset);
   fs::create_directories(out / "ov_config");
 
   // ---------------------------------------------------------------- calibration -> OV config
@@ -333,14 +252,7 @@ int main(int argc, char **argv) {
     }
   }
   auto est = estimator_changes();
-  auto set = [&](const std::string &k, const std::string &v) {
-    for (auto &kv : est)
-      if (kv.first == k) {
-        kv.second = v;
-        return;
-      }
-    est.emplace_back(k, v);
-  };
+  auto set = [&](const std::string &k, const std::string &v) { set_key(est, k, v); };
   set("max_cameras", std::to_string(cams));
   set("use_stereo", cams == 2 ? "true" : "false");
   set("verbosity", "\"" + verbosity + "\"");
@@ -476,11 +388,7 @@ int main(int argc, char **argv) {
         sum_slam += n_slam;
         // Stamped on the IMU clock (as the ground truth and OpenVINS's ROS odometry): t_cam + t_off.
         const int64_t tp_ns = t_ns + std::llround(1e9 * t_off);
-        char line[256];
-        std::snprintf(line, sizeof line, "%lld.%09lld %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n",
-                      static_cast<long long>(tp_ns / 1000000000LL), static_cast<long long>(tp_ns % 1000000000LL), p.x(),
-                      p.y(), p.z(), q.x(), q.y(), q.z(), q.w());
-        traj << line;
+        traj << tum_line(tp_ns, p, q);
       }
       if (est_time_offset) {
         char line[96];
@@ -497,33 +405,19 @@ int main(int argc, char **argv) {
   timing.flush();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 
-  auto pct = [](std::vector<double> v, double p) {
-    if (v.empty()) return std::nan("");
-    std::sort(v.begin(), v.end());
-    size_t k = static_cast<size_t>(std::ceil(p * (v.size() - 1)));
-    return v[std::min(k, v.size() - 1)];
-  };
-  auto mean = [](const std::vector<double> &v) {
-    double s = 0;
-    for (double x : v) s += x;
-    return v.empty() ? std::nan("") : s / v.size();
-  };
-  struct rusage ru {};
-  getrusage(RUSAGE_SELF, &ru);
+  const struct rusage ru = self_rusage();
   std::ofstream js(out / "summary.json");
   js.precision(6);
   js << "{\n  \"estimator\": \"openvins-6948812\",\n  \"cams\": " << cams << ",\n  \"frames\": " << n_frames
      << ",\n  \"frames_skipped\": " << n_skipped << ",\n  \"frames_updated\": " << n_updated
-     << ",\n  \"init_after_s\": " << first_init_s << ",\n  \"ms_per_frame\": {\"median\": " << pct(ms_all, 0.5)
-     << ", \"p95\": " << pct(ms_all, 0.95) << ", \"mean\": " << mean(ms_all) << "},\n"
-     << "  \"ms_per_updated_frame\": {\"median\": " << pct(ms_init, 0.5) << ", \"p95\": " << pct(ms_init, 0.95)
+     << ",\n  \"init_after_s\": " << first_init_s << ",\n  \"ms_per_frame\": {\"median\": " << percentile(ms_all, 0.5)
+     << ", \"p95\": " << percentile(ms_all, 0.95) << ", \"mean\": " << mean(ms_all) << "},\n"
+     << "  \"ms_per_updated_frame\": {\"median\": " << percentile(ms_init, 0.5) << ", \"p95\": " << percentile(ms_init, 0.95)
      << ", \"mean\": " << mean(ms_init) << "},\n"
      << "  \"mean_msckf_features_per_update\": " << (n_updated ? double(sum_msckf) / n_updated : 0.0)
-     << ",\n  \"mean_slam_features\": " << (n_updated ? double(sum_slam) / n_updated : 0.0)
-     << ",\n  \"wall_s\": " << wall_s << ",\n  \"peak_rss_kb\": " << ru.ru_maxrss
-     << ",\n  \"cpu_user_s\": " << ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec
-     << ",\n  \"cpu_sys_s\": " << ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec << "\n}\n";
-  std::cerr << "ov_driver: " << n_frames << " frames, " << n_updated << " updated, median " << pct(ms_init, 0.5)
+     << ",\n  \"mean_slam_features\": " << (n_updated ? double(sum_slam) / n_updated : 0.0) << ",\n";
+  write_summary_resources(js, wall_s, ru);
+  std::cerr << "ov_driver: " << n_frames << " frames, " << n_updated << " updated, median " << percentile(ms_init, 0.5)
             << " ms, peak RSS " << ru.ru_maxrss / 1024 << " MB, msckf feats/update "
             << (n_updated ? double(sum_msckf) / n_updated : 0.0) << "\n";
   return n_updated > 0 ? 0 : 2;

@@ -12,28 +12,17 @@
 # Needs: bash scripts/setup.sh --peers (Boost), plus the project's default deps (Eigen, OpenCV,
 # Ceres, yaml-cpp).
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../../.." && pwd)"
-BUILD="${1:-$ROOT/build-peers}"
+source "$(dirname "${BASH_SOURCE[0]}")/../build_common.sh" "$@"  # ROOT BUILD JOBS NICE
 TARBALL="${VF_TARBALL:-$ROOT/../shared/peers/VID-Fusion-25c6771.tar.gz}"
-JOBS="${JOBS:-2}"
-NICE="${NICE:-19}"
 ARCH="${VF_ARCH:-x86-64-v3}"
-case "$BUILD" in "$ROOT"/bench/*|"$ROOT"/vio_core/*|"$ROOT"/io/*) echo "build dir must not be in the source tree" >&2; exit 2;; esac
 
-ARCH_FLAGS=""
-[[ "$ARCH" != baseline ]] && ARCH_FLAGS="-march=$ARCH"
+peers_arch_flags "$ARCH"
 # -faligned-new: C++14; with AVX, the Eigen members of their classes (IntegrationBase, ...)
 # need 32-byte aligned operator new (C++17 does it by default).
 CXXFLAGS_ALL="$ARCH_FLAGS -faligned-new -Wno-deprecated-declarations"
 
 SRC="$BUILD/src/VID-Fusion"
-STAMP="$BUILD/src/.vidfusion_unpacked_$(sha256sum "$TARBALL" | cut -c1-16)"
-if [[ ! -f "$STAMP" ]]; then
-  echo "[peers] unpacking $TARBALL -> $BUILD/src"
-  rm -rf "$SRC"; mkdir -p "$BUILD/src"
-  tar -xzf "$TARBALL" -C "$BUILD/src"
-  touch "$STAMP"
-fi
+peers_unpack "$TARBALL" .vidfusion_unpacked_ "$SRC"
 
 # Release -O3 (their vid_estimator CMake asks for -O3 in Release), -g0: no debug info (compile
 # time and memory only on this shared machine).

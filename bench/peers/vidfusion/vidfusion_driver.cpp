@@ -41,7 +41,11 @@
 #include "ft_bridge.h"
 #include "parameters.h"
 
+#define PEER_DRIVER_NAME "vidfusion_driver"
+#include "../driver_common.h"
+
 namespace fs = std::filesystem;
+using namespace peers;
 
 // Their estimator.cpp declares these extern (their node defines them; the ground-truth
 // orientation it would hold is stored by IntegrationBase but not used).
@@ -53,45 +57,6 @@ Eigen::Quaterniond q_gt0 = Eigen::Quaterniond::Identity(), q_gt = Eigen::Quatern
 Estimator estimator;
 
 namespace {
-
-[[noreturn]] void die(const std::string &msg) {
-  std::cerr << "vidfusion_driver: " << msg << "\n";
-  std::exit(1);
-}
-
-YAML::Node load_yaml(const fs::path &p) {
-  std::ifstream f(p);
-  if (!f) die("cannot open " + p.string());
-  std::stringstream ss;
-  std::string line;
-  bool first = true;
-  while (std::getline(f, line)) {
-    if (first && line.rfind("%YAML", 0) == 0) {
-      first = false;
-      continue;
-    }
-    first = false;
-    ss << line << "\n";
-  }
-  try {
-    return YAML::Load(ss.str());
-  } catch (const std::exception &e) {
-    die(p.string() + ": " + e.what());
-  }
-}
-
-template <typename T> T req(const YAML::Node &n, const std::string &key, const fs::path &p) {
-  if (!n[key]) die(p.string() + ": missing key '" + key + "'");
-  return n[key].as<T>();
-}
-
-std::vector<std::string> split_csv(const std::string &line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string tok;
-  while (std::getline(ss, tok, ',')) out.push_back(tok);
-  return out;
-}
 
 // Rows of numbers of a CSV (# lines skipped); column 0 as int64 ns.
 struct Row {
@@ -115,22 +80,6 @@ std::vector<Row> read_rows(const fs::path &csv, size_t min_cols) {
     rows.push_back(std::move(r));
   }
   return rows;
-}
-
-std::vector<std::pair<int64_t, std::string>> read_frames(const fs::path &csv) {
-  std::ifstream f(csv);
-  if (!f) die("cannot open " + csv.string());
-  std::vector<std::pair<int64_t, std::string>> v;
-  std::string line;
-  while (std::getline(f, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    auto t = split_csv(line);
-    if (t.size() < 2) continue;
-    std::string name = t[1];
-    while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
-    v.emplace_back(std::stoll(t[0]), name);
-  }
-  return v;
 }
 
 double sec(int64_t ns) { return 1e-9 * static_cast<double>(ns); }
@@ -172,12 +121,8 @@ int main(int argc, char **argv) {
     else if (a == "--freq") freq = std::stoi(next());
     else if (a == "--vio") vio = true;
     else if (a == "--log-level") level = next();
-    else if (a == "--set") {
-      std::string kv = next();
-      auto eq = kv.find('=');
-      if (eq == std::string::npos) die("--set needs key=value");
-      overrides[kv.substr(0, eq)] = kv.substr(eq + 1);
-    } else if (a == "-h" || a == "--help") {
+    else if (a == "--set") parse_set(next(), overrides);
+    else if (a == "-h" || a == "--help") {
       usage();
       return 0;
     } else
@@ -190,7 +135,7 @@ int main(int argc, char **argv) {
   const std::map<std::string, int> levels{{"debug", 0}, {"info", 1}, {"warn", 2}, {"error", 3}, {"silent", 5}};
   if (!levels.count(level)) die("unknown --log-level " + level);
   ros::console::g_level = levels.at(level);
-  if (fs::exists(dataset / "mav0")) dataset /= "mav0";
+  dataset = dataset_root(dataset);
   fs::create_directories(out / "vf_config");
 
   // ---------------------------------------------------------------- calibration -> their config
@@ -264,14 +209,7 @@ int main(int argc, char **argv) {
       {"rolling_shutter", "0"},
       {"rolling_shutter_tr", "0"},
   };
-  auto set = [&](const std::string &k, const std::string &v) {
-    for (auto &kv : cfg)
-      if (kv.first == k) {
-        kv.second = v;
-        return;
-      }
-    cfg.emplace_back(k, v);
-  };
+  auto set = [&](const std::string &k, const std::string &v) { set_key(cfg, k, v); };
   std::ostringstream num;
   num.precision(17);
   auto fmt = [&](double x) {
@@ -320,8 +258,7 @@ int main(int argc, char **argv) {
 
   // ---------------------------------------------------------------- data
   std::vector<Imu> imus;
-  for (const Row &r : read_rows(dataset / "imu0" / "data.csv", 7))
-    imus.push_back({sec(r.ns), Eigen::Vector3d(r.v[3], r.v[4], r.v[5]), Eigen::Vector3d(r.v[0], r.v[1], r.v[2])});
+  for (const ImuSample &s : read_imu(dataset / "imu0" / "data.csv")) imus.push_back({sec(s.ns), s.a, s.w});
   // Control input as their dynamic_model node makes it from the rotor speeds:
   // collective_thrust = (sum_i k_i n_i^2) / mass, with our k_i [N/unit^2] in the rotor unit.
   std::vector<Control> ctrl;
@@ -483,11 +420,8 @@ int main(int argc, char **argv) {
       }
       // State time = image time + td on the IMU clock (td = 0 here).
       const int64_t ts = t_ns + static_cast<int64_t>(std::llround(estimator.td * 1e9));
+      traj << tum_line(ts, p, q);
       char line[512];
-      std::snprintf(line, sizeof line, "%lld.%09lld %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n",
-                    static_cast<long long>(ts / 1000000000LL), static_cast<long long>(ts % 1000000000LL), p.x(), p.y(),
-                    p.z(), q.x(), q.y(), q.z(), q.w());
-      traj << line;
       // Their estimator reports no covariance: the sigma columns are 0 ("not estimated"; our
       // loaders reject non-finite values). Scoring uses the values only.
       std::snprintf(line, sizeof line, "%lld,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,0,0,0\n", static_cast<long long>(ts),
@@ -500,19 +434,7 @@ int main(int argc, char **argv) {
   timing.flush();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
 
-  auto pct = [](std::vector<double> v, double pr) {
-    if (v.empty()) return std::nan("");
-    std::sort(v.begin(), v.end());
-    size_t k = static_cast<size_t>(std::ceil(pr * (v.size() - 1)));
-    return v[std::min(k, v.size() - 1)];
-  };
-  auto mean = [](const std::vector<double> &v) {
-    double s = 0;
-    for (double x : v) s += x;
-    return v.empty() ? std::nan("") : s / v.size();
-  };
-  struct rusage ru {};
-  getrusage(RUSAGE_SELF, &ru);
+  const struct rusage ru = self_rusage();
   std::ofstream js(out / "summary.json");
   js.precision(6);
   js << "{\n  \"estimator\": \"vid-fusion-25c6771\",\n  \"use_vid\": " << (use_vid ? "true" : "false")
@@ -520,15 +442,13 @@ int main(int argc, char **argv) {
      << ",\n  \"frames\": " << n_frames << ",\n  \"frames_published\": " << n_published
      << ",\n  \"frames_estimated\": " << n_est << ",\n  \"frames_thrown\": " << n_thrown
      << ",\n  \"frames_initialized\": " << n_init_frames << ",\n  \"reboots\": " << n_reboots
-     << ",\n  \"init_after_s\": " << first_init_s << ",\n  \"ms_per_frame\": {\"median\": " << pct(ms_all, 0.5)
-     << ", \"p95\": " << pct(ms_all, 0.95) << ", \"mean\": " << mean(ms_all) << "},\n"
-     << "  \"ms_per_initialized_frame\": {\"median\": " << pct(ms_init, 0.5) << ", \"p95\": " << pct(ms_init, 0.95)
-     << ", \"mean\": " << mean(ms_init) << "},\n"
-     << "  \"wall_s\": " << wall_s << ",\n  \"peak_rss_kb\": " << ru.ru_maxrss
-     << ",\n  \"cpu_user_s\": " << ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec
-     << ",\n  \"cpu_sys_s\": " << ru.ru_stime.tv_sec + 1e-6 * ru.ru_stime.tv_usec << "\n}\n";
+     << ",\n  \"init_after_s\": " << first_init_s << ",\n  \"ms_per_frame\": {\"median\": " << percentile(ms_all, 0.5)
+     << ", \"p95\": " << percentile(ms_all, 0.95) << ", \"mean\": " << mean(ms_all) << "},\n"
+     << "  \"ms_per_initialized_frame\": {\"median\": " << percentile(ms_init, 0.5) << ", \"p95\": " << percentile(ms_init, 0.95)
+     << ", \"mean\": " << mean(ms_init) << "},\n";
+  write_summary_resources(js, wall_s, ru);
   std::cerr << "vidfusion_driver: " << n_frames << " frames, initialized after " << first_init_s << " s, "
-            << n_init_frames << " initialized, " << n_reboots << " reboots, median " << pct(ms_init, 0.5)
+            << n_init_frames << " initialized, " << n_reboots << " reboots, median " << percentile(ms_init, 0.5)
             << " ms, peak RSS " << ru.ru_maxrss / 1024 << " MB\n";
   return n_init_frames > 0 ? 0 : 2;
 }
