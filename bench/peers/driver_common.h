@@ -81,6 +81,30 @@ inline std::vector<std::string> split_csv(const std::string &line) {
   return out;
 }
 
+// Rows of numbers of a CSV (# lines skipped); column 0 as int64 ns.
+struct Row {
+  int64_t ns;
+  std::vector<double> v;
+};
+inline std::vector<Row> read_rows(const fs::path &csv, size_t min_cols) {
+  std::ifstream f(csv);
+  if (!f) die("cannot open " + csv.string());
+  std::vector<Row> rows;
+  std::string line;
+  size_t ln = 0;
+  while (std::getline(f, line)) {
+    ++ln;
+    if (line.empty() || line[0] == '#') continue;
+    auto t = split_csv(line);
+    if (t.size() < min_cols) die(csv.string() + ":" + std::to_string(ln) + ": need " + std::to_string(min_cols) + " columns");
+    Row r;
+    r.ns = std::stoll(t[0]);
+    for (size_t i = 1; i < t.size(); ++i) r.v.push_back(std::stod(t[i]));
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
 // imu0/data.csv: ns, w_x, w_y, w_z [rad/s], a_x, a_y, a_z [m/s^2] (# lines skipped).
 struct ImuSample {
   int64_t ns;
@@ -88,20 +112,12 @@ struct ImuSample {
 };
 
 inline std::vector<ImuSample> read_imu(const fs::path &csv) {
-  std::ifstream f(csv);
-  if (!f) die("cannot open " + csv.string());
   std::vector<ImuSample> v;
-  std::string line;
-  size_t ln = 0;
-  while (std::getline(f, line)) {
-    ++ln;
-    if (line.empty() || line[0] == '#') continue;
-    auto t = split_csv(line);
-    if (t.size() < 7) die(csv.string() + ":" + std::to_string(ln) + ": need 7 columns");
+  for (const Row &r : read_rows(csv, 7)) {
     ImuSample s;
-    s.ns = std::stoll(t[0]);
-    s.w = {std::stod(t[1]), std::stod(t[2]), std::stod(t[3])};
-    s.a = {std::stod(t[4]), std::stod(t[5]), std::stod(t[6])};
+    s.ns = r.ns;
+    s.w = {r.v[0], r.v[1], r.v[2]};
+    s.a = {r.v[3], r.v[4], r.v[5]};
     v.push_back(s);
   }
   return v;

@@ -58,30 +58,6 @@ Estimator estimator;
 
 namespace {
 
-// Rows of numbers of a CSV (# lines skipped); column 0 as int64 ns.
-struct Row {
-  int64_t ns;
-  std::vector<double> v;
-};
-std::vector<Row> read_rows(const fs::path &csv, size_t min_cols) {
-  std::ifstream f(csv);
-  if (!f) die("cannot open " + csv.string());
-  std::vector<Row> rows;
-  std::string line;
-  size_t ln = 0;
-  while (std::getline(f, line)) {
-    ++ln;
-    if (line.empty() || line[0] == '#') continue;
-    auto t = split_csv(line);
-    if (t.size() < min_cols) die(csv.string() + ":" + std::to_string(ln) + ": need " + std::to_string(min_cols) + " columns");
-    Row r;
-    r.ns = std::stoll(t[0]);
-    for (size_t i = 1; i < t.size(); ++i) r.v.push_back(std::stod(t[i]));
-    rows.push_back(std::move(r));
-  }
-  return rows;
-}
-
 double sec(int64_t ns) { return 1e-9 * static_cast<double>(ns); }
 
 struct Imu {
