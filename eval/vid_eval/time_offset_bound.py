@@ -7,7 +7,7 @@ information on t_d is then
     I = integral |alpha(t)|^2 dt / sigma_g^2,        sigma(t_d) >= 1 / sqrt(I),
 
 the Cramér-Rao bound of any estimator that gets t_d from the rotation (README "Camera-IMU time
-offset": the estimator's sigma on noise-free data follows it within a few per cent; the
+offset": the estimator's sigma on noise-free data is 3-22 % above it; the
 position path adds next to nothing on our flights). It says how much rotation a calibration
 needs: 0.5 ms at 3 sigma after 10 s takes an RMS angular acceleration of 1.9 rad/s^2 with
 sigma_g = 1e-3 rad/s/sqrt(Hz).
@@ -20,7 +20,8 @@ import numpy as np
 def angular_acceleration(t_s: np.ndarray, gyro: np.ndarray, half_window_s: float = 0.0) -> np.ndarray:
     """alpha per sample [rad/s^2] (N x 3). half_window_s = 0: central differences (noise-free
     gyro); > 0: slope of a local quadratic over +-half_window_s (a measured gyro; its white
-    noise still adds sigma^2 / sum(dt^2) per axis, see rotation_bound)."""
+    noise still adds sigma^2 / sum(dt^2) per axis to alpha^2, which rotation_bound does not
+    subtract: on a noisy gyro the bound comes out optimistic)."""
     t = np.asarray(t_s, float)
     w = np.asarray(gyro, float)
     if half_window_s <= 0.0:
