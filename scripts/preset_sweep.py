@@ -8,6 +8,8 @@ come from vid_eval (the same code as `vid-eval traj` / `vid-eval force`):
 * ATE [m] (posyaw), world-frame force RMSE [m/s^2] (gauge-free: rotated by the alignment),
 * max attitude error after --skip seconds [deg] (after the alignment),
 * force lag [ms] (cross-correlation) and step settling (median / max [s], # not settled),
+* the online time offset at the end when it is estimated: error against the simulator's [ms],
+  its sigma and NEES,
 * accelerometer samples rejected and down-weighted (fractions) and force jumps detected (vid_run's
   summary).
 
@@ -87,6 +89,8 @@ def _job(args, build, work, preset, seed, noise_free, configs):
 COLUMNS = [("ate_m", "ATE [m]", "{:.4f}", max), ("force_rmse_world", "force RMSE [m/s²]", "{:.3f}", max),
            ("att_err_max_deg", "max att. err [°]", "{:.2f}", max), ("lag_ms", "lag [ms]", "{:.0f}", max),
            ("settling_max_s", "settling max [s]", "{:.2f}", max),
+           ("td_err_ms", "t_d err [ms]", "{:+.2f}", lambda v: max(v, key=abs)),
+           ("td_sigma_ms", "t_d σ [ms]", "{:.2f}", max), ("td_nees", "t_d NEES", "{:.1f}", max),
            ("accel_rejected_fraction", "accel rejected", "{:.2%}", max),
            ("accel_downweighted_fraction", "accel down-weighted", "{:.2%}", max), ("force_jumps", "jumps", "{:.0f}", max),
            # vid_run --smooth (estimator smoother_lag_s > 0): the fixed-lag smoothed outputs

@@ -137,4 +137,22 @@ def score_run(seq: pathlib.Path, run: pathlib.Path, skip_s: float) -> dict:
             world_s = rotate_world(world_s, fit_world_gauge(traj_s, gt_traj, "posyaw"))
             r_s = force_response(*pair_vectors(world_s, gt, PairingOptions()))
             out["settling_max_s_smoothed"] = r_s.summary()["settling_max_s"]
+    out.update(score_time_offset(mav0, run))
     return out
+
+
+def score_time_offset(mav0: pathlib.Path, run: pathlib.Path) -> dict:
+    """The online camera-IMU time offset at the end of ``run`` (vid_run's time_offset.csv, written
+    when t_d is estimated) against the simulator's truth (mav0/time_offset0, the constant part;
+    0 without the file): error [ms] and its NEES. Empty when t_d was not estimated."""
+    est_file = run / "time_offset.csv"
+    if not est_file.exists():
+        return {}
+    est = np.loadtxt(est_file, delimiter=",", comments="#", ndmin=2)
+    truth_file = mav0 / "time_offset0" / "data.csv"
+    truth = 0.0
+    if truth_file.exists():
+        rows = np.loadtxt(truth_file, delimiter=",", comments="#", ndmin=2)
+        truth = float(rows[-1, 1])
+    err, sigma = float(est[-1, 1]) - truth, float(est[-1, 2])
+    return {"td_err_ms": err * 1e3, "td_sigma_ms": sigma * 1e3, "td_nees": (err / sigma) ** 2 if sigma > 0 else None}

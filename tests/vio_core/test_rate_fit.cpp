@@ -1,5 +1,6 @@
 // The gyro fit behind the time-offset clone Jacobian (rate_fit.h): exact on a quadratic,
-// noise down by the expected factor, centre-weighted at a one-sided window, refuses too few samples.
+// noise down by the expected factor, centre-weighted at a one-sided window, refuses too few samples;
+// the adaptive window keeps the longest window on a smooth rate and shortens near an impact.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -56,6 +57,63 @@ TEST(RateFit, TooFewSamplesFallBack) {
   EXPECT_FALSE(fit_rate(samples(t - 3 * kDt, t + 3 * kDt, 0.0, 1), t, kH).has_value());  // 7 samples
   EXPECT_FALSE(fit_rate(samples(0, 500'000'000, 0.0, 1), t, kH).has_value());              // none in the window
   EXPECT_FALSE(fit_rate({}, t, kH).has_value());
+}
+
+// An impact's gyro swing (impacts preset: -3.7 rad/s and back within ~0.25 s) starting at t_hit.
+double swing(double t, double t_hit) {
+  const double s = t - t_hit;
+  return s <= 0.0 || s >= 0.25 ? 0.0 : -3.7 * std::sin(M_PI * s / 0.125) * std::exp(-8.0 * s);
+}
+
+std::vector<GyroSample> impact_samples(double t_hit, double sigma, unsigned seed) {
+  std::vector<GyroSample> out = samples(0, 2'000'000'000, sigma, seed);
+  for (GyroSample& s : out) s.gyro_I.y() += swing(s.t_ns * 1e-9, t_hit);
+  return out;
+}
+
+constexpr TimeNs kMaxH = 400'000'000;
+constexpr TimeNs kMinH = 25'000'000;
+
+TEST(RateFit, AdaptiveKeepsTheLongWindowOnASmoothRate) {
+  int kept = 0;
+  for (unsigned r = 0; r < 50; ++r) {
+    const auto w = fit_rate_adaptive(samples(0, 2'000'000'000, 0.02, 300 + r), 1'000'000'000, kMaxH, kMinH);
+    ASSERT_TRUE(w.has_value());
+    EXPECT_TRUE(w->passed);
+    kept += w->half_window_ns == kMaxH;
+  }
+  EXPECT_GE(kept, 49);  // the residual ratio of a pure-noise window is 1 +- 0.08 < 1.5
+}
+
+TEST(RateFit, AdaptiveFollowsAnImpactTheFixedWindowMisses) {
+  // An impact 0.15 s after the clone: the +-0.4 s quadratic bends towards it, the adaptive fit
+  // shrinks the window until the impact is outside it.
+  const TimeNs t = 1'000'000'000;
+  double fixed2 = 0.0, adaptive2 = 0.0;
+  const int runs = 50;
+  int passed = 0;
+  for (unsigned r = 0; r < runs; ++r) {
+    const auto data = impact_samples(1.15, 0.02, 500 + r);
+    const auto fixed = fit_rate(data, t, kMaxH);
+    const auto adaptive = fit_rate_adaptive(data, t, kMaxH, kMinH);
+    ASSERT_TRUE(fixed && adaptive);
+    EXPECT_LT(adaptive->half_window_ns, 150'000'000);
+    passed += adaptive->passed;
+    fixed2 += (*fixed - truth(1.0)).squaredNorm();
+    adaptive2 += (adaptive->rate_I - truth(1.0)).squaredNorm();
+  }
+  const double fixed_rms = std::sqrt(fixed2 / runs), adaptive_rms = std::sqrt(adaptive2 / runs);
+  EXPECT_GE(passed, 45);  // a short noise-only window fails the ratio test now and then
+  EXPECT_GT(fixed_rms, 0.1);        // rad/s: the error that put t_d 5 ms off
+  EXPECT_LT(adaptive_rms, 0.015);   // the +-0.1 s window's noise: 0.02 * sqrt(9/(4*81)) = 0.0033 per axis
+}
+
+TEST(RateFit, AdaptiveMeasuresTheNoiseInsteadOfAssumingIt) {
+  // Ten times the noise (a vibrating airframe): still the long window on a smooth rate.
+  const auto w = fit_rate_adaptive(samples(0, 2'000'000'000, 0.2, 7), 1'000'000'000, kMaxH, kMinH);
+  ASSERT_TRUE(w.has_value());
+  EXPECT_EQ(w->half_window_ns, kMaxH);
+  EXPECT_FALSE(fit_rate_adaptive(samples(0, 2'000'000'000, 0.0, 1), 5'000'000'000, kMaxH, kMinH).has_value());
 }
 
 }  // namespace

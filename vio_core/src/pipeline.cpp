@@ -26,11 +26,13 @@ double ms_since(Clock::time_point t0) {
 }
 constexpr TimeNs kMaxSubstepNs = 10'000'000;  // 10 ms sub-steps over IMU gaps
 constexpr TimeNs kGtInitToleranceNs = 20'000'000;
-// Half window of the gyro fit in the time-offset clone Jacobian (rate_fit.h). 0.1 and 0.15 s
+// Longest half window of the gyro fit in the time-offset clone Jacobian (rate_fit.h). 0.1 and 0.15 s
 // left t_d inconsistent on the gentle flights (NEES of single runs up to 81 and 51), with 0.25 s
 // the estimate still lagged more at 10 s than with 0.4 s (README "Camera-IMU time offset").
 // Frames wait this long for the later gyro samples while t_d is estimated.
 constexpr TimeNs kTdRateHalfWindowNs = 400'000'000;
+// The shortest window rate_for_clone falls back to near an impact: 21 samples at 400 Hz.
+constexpr TimeNs kTdRateMinHalfWindowNs = 25'000'000;
 
 }  // namespace
 
@@ -344,7 +346,8 @@ Eigen::Vector3d Pipeline::rate_for_clone(TimeNs t, const Eigen::Vector3d& fallba
     if (s.t_ns - t > kTdRateHalfWindowNs) break;
     window.push_back({s.t_ns, s.gyro_I});
   }
-  return fit_rate(window, t, kTdRateHalfWindowNs).value_or(fallback);
+  const std::optional<AdaptiveRate> fit = fit_rate_adaptive(window, t, kTdRateHalfWindowNs, kTdRateMinHalfWindowNs);
+  return fit ? fit->rate_I : fallback;
 }
 
 double Pipeline::time_offset_s() const {

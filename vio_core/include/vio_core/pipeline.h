@@ -201,7 +201,8 @@ class Pipeline {
   /// while t_d is estimated, for the gyro samples after a frame (rate_for_clone).
   TimeNs frame_hold_ns() const;
   /// @brief The body rate for the time-offset clone Jacobian at @p t (IMU clock): the gyro fitted
-  /// over +-kTdRateHalfWindowNs (rate_fit.h), its bias left in (a constant is the same for every
+  /// over the longest window up to +-kTdRateHalfWindowNs whose residual is noise
+  /// (fit_rate_adaptive, rate_fit.h: shorter near impacts), its bias left in (a constant is the same for every
   /// clone and tells t_d nothing, while the bias estimate, corrected by the same updates in the
   /// first seconds, put update-correlated steps into the rate: -10 ms runs lagged 18 ms at 10 s);
   /// @p fallback (the interpolated sample) without enough samples or without the t_d state.
