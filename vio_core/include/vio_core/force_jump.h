@@ -14,10 +14,11 @@
 /// (each innovation clipped at 3 sigma, so that one outlier weighs no more than a 3-sigma sample)
 /// which is chi2(3) while the filter is consistent and grows as n |dF|^2 / sigma^2 after a
 /// step. Each half of the window must carry the step too (a one-sample spike is not a step).
-/// On a detection the accelerometer corrections of the window are undone, the force gets the
+/// On a detection the window's accelerometer corrections of velocity, biases and force are
+/// undone (not of the pose, which the clones share), the force gets the
 /// step's prior variance and its rate restarts, and the window's samples are applied once as
-/// their mean, so the force jumps to the new level in a few samples while attitude and biases
-/// keep what they had; velocity and position get what propagation with the old force missed.
+/// their mean, so the force jumps to the new level in a few samples while the biases keep what
+/// they had; velocity and position get what propagation with the old force missed.
 /// Samples the chi2 gate held back inside the window are used, not lost.
 
 #include <Eigen/Core>
@@ -84,7 +85,7 @@ class ForceJumpDetector {
 };
 
 /// @brief Apply a detected jump to the state: undo the window's accelerometer corrections of
-/// the IMU block; add the step's prior to the force covariance (variance (2|delta|)^2 per axis)
+/// the IMU block from the velocity on (not the pose the clones share); add the step's prior to the force covariance (variance (2|delta|)^2 per axis)
 /// and restart its rate (zero mean, sigma_rate0, uncorrelated); update with the window's mean
 /// measurement y_bar = F - dF/dt dt_bar + R_bar b_a (+ noise_var / n) in one 3-row EKF update;
 /// move velocity and position by the integral of the window's innovations (what propagation
