@@ -85,9 +85,10 @@ class ForceJumpDetector {
 };
 
 /// @brief Apply a detected jump to the state: undo the window's accelerometer corrections of
-/// the IMU block from the velocity on (not the pose the clones share); add the step's prior to the force covariance (variance (2|delta|)^2 per axis)
-/// and restart its rate (zero mean, sigma_rate0, uncorrelated); update with the window's mean
-/// measurement y_bar = F - dF/dt dt_bar + R_bar b_a (+ noise_var / n) in one 3-row EKF update;
+/// the IMU block from the velocity on (not the pose the clones share); add the step's prior to
+/// the force covariance (variance (2|delta|)^2 per axis) and restart its rate (zero mean,
+/// sigma_rate0, uncorrelated); update with the window's mean measurement
+/// y_bar = F - dF/dt dt_bar + R_bar b_a (+ noise_var / n) in one 3-row EKF update;
 /// move velocity and position by the integral of the window's innovations (what propagation
 /// with the old force missed), with its noise added to their covariance.
 /// @param window the jump's samples, newest first (detector.recent(0 .. n-1))

@@ -202,9 +202,10 @@ class Pipeline {
   TimeNs frame_hold_ns() const;
   /// @brief The body rate for the time-offset clone Jacobian at @p t (IMU clock): the gyro fitted
   /// over the longest window up to +-kTdRateHalfWindowNs whose residual is noise
-  /// (fit_rate_adaptive, rate_fit.h: shorter near impacts), its bias left in (a constant is the same for every
-  /// clone and tells t_d nothing, while the bias estimate, corrected by the same updates in the
-  /// first seconds, put update-correlated steps into the rate: -10 ms runs lagged 18 ms at 10 s);
+  /// (fit_rate_adaptive, rate_fit.h: shorter near impacts), its bias left in (a constant is the
+  /// same for every clone and tells t_d nothing, while the bias estimate, corrected by the same
+  /// updates in the first seconds, put update-correlated steps into the rate: -10 ms runs lagged
+  /// 18 ms at 10 s);
   /// @p fallback (the interpolated sample) without enough samples or without the t_d state.
   Eigen::Vector3d rate_for_clone(TimeNs t, const Eigen::Vector3d& fallback) const;
   void zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest, double sigma_mps,
