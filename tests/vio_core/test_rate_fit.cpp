@@ -17,6 +17,13 @@ constexpr TimeNs kH = 250'000'000;  // +-0.25 s
 
 Vector3d truth(double t) { return Vector3d(0.3 + 0.2 * t - 0.5 * t * t, -1.0 + 2.0 * t, 0.1 * t * t); }
 
+// One fixed window: the adaptive fit with its shortest window equal to its longest.
+std::optional<Vector3d> fit_rate(const std::vector<GyroSample>& data, TimeNs t, TimeNs h) {
+  const auto r = fit_rate_adaptive(data, t, h, h);
+  if (!r) return std::nullopt;
+  return r->rate_I;
+}
+
 std::vector<GyroSample> samples(TimeNs t0, TimeNs t1, double sigma, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> nd(0.0, sigma);

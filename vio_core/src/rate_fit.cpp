@@ -73,12 +73,6 @@ Eigen::Vector3d noise_variance(const std::vector<GyroSample>& samples, TimeNs t_
 
 }  // namespace
 
-std::optional<Eigen::Vector3d> fit_rate(const std::vector<GyroSample>& samples, TimeNs t_ns, TimeNs half_window_ns) {
-  const std::optional<Quadratic> q = fit_quadratic(samples, t_ns, half_window_ns);
-  if (!q) return std::nullopt;
-  return Eigen::Vector3d(q->coeffs.row(0).transpose());
-}
-
 std::optional<AdaptiveRate> fit_rate_adaptive(const std::vector<GyroSample>& samples, TimeNs t_ns,
                                               TimeNs max_half_window_ns, TimeNs min_half_window_ns) {
   // Samples in time order (the caller's deque is); the successive differences need it.
