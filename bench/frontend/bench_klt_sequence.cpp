@@ -117,7 +117,8 @@ void BM_KltStereoSequence(benchmark::State& state) {
   const FrontendParams params = load_frontend_params(
       config ? fs::path(config) : fs::path(VID_SOURCE_DIR) / "config" / "sim" / "frontend.yaml");
   std::vector<double> total, pyr, temporal, detect, stereo;
-  double features = 0, matched = 0, gyro = 0, tmpl_it = 0, tmpl_n = 0;
+  double features = 0, matched = 0, gyro = 0, tmpl_it = 0, tmpl_n = 0, klt = 0, pyr_frames = 0;
+  double direct = 0, previous = 0;
   for (auto _ : state) {
     KltTracker tracker(params, s.cams);
     std::size_t next_imu = 0;
@@ -138,6 +139,10 @@ void BM_KltStereoSequence(benchmark::State& state) {
       gyro += st.gyro_used ? 1.0 : 0.0;
       tmpl_it += st.template_iterations;
       tmpl_n += st.klt_tracked + st.template_rejected;
+      klt += st.klt_points;
+      pyr_frames += st.pyramids > 0 ? 1.0 : 0.0;
+      direct += st.direct_aligned;
+      previous += st.previous;
     }
     state.SetIterationTime(pass_ms * 1e-3);
   }
@@ -156,6 +161,11 @@ void BM_KltStereoSequence(benchmark::State& state) {
   state.counters["gyro_frac"] = gyro / n;
   // Gauss-Newton iterations per temporal birth-patch alignment.
   state.counters["tmpl_iters"] = tmpl_n > 0 ? tmpl_it / tmpl_n : 0.0;
+  // Points through pyramidal KLT per frame, share of frames that built a pyramid, share of the
+  // temporal tracks aligned directly (direct_alignment).
+  state.counters["klt_pts"] = klt / n;
+  state.counters["pyr_frames"] = pyr_frames / n;
+  state.counters["direct"] = previous > 0 ? direct / previous : 0.0;
   state.SetLabel(s.source);
 }
 BENCHMARK(BM_KltStereoSequence)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(2);

@@ -37,6 +37,7 @@ const Field<int> kInts[] = {
     VID_FIELD(ransac_max_iterations),
     VID_FIELD(stereo_lk_levels),
     VID_FIELD(stereo_track_lk_levels),
+    VID_FIELD(stereo_retry_frames),
     VID_FIELD(image_bit_depth),
 };
 const Field<double> kDoubles[] = {
@@ -58,6 +59,7 @@ const Field<double> kDoubles[] = {
 };
 const Field<bool> kBools[] = {
     VID_FIELD(template_refinement),
+    VID_FIELD(direct_alignment),
     VID_FIELD(stereo),
     VID_FIELD(gyro_prediction),
 };
@@ -127,6 +129,7 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
     m.fail("image_bit_depth", "must be 0 (auto) or in [9, 16] (significant bits of 16-bit images)");
   }
   if (p.detect_min_missing < 1) m.fail("detect_min_missing", "must be >= 1");
+  if (p.stereo_retry_frames < 0) m.fail("stereo_retry_frames", "must be >= 0");
   if (p.detect_cell_retry_frames < 0) m.fail("detect_cell_retry_frames", "must be >= 0");
   if (p.min_distance_px < 0.0) m.fail("min_distance_px", "must be >= 0");
   if (p.ransac_confidence <= 0.0 || p.ransac_confidence >= 1.0) {

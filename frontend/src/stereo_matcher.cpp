@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <opencv2/video/tracking.hpp>
+
+#include "frontend/sparse_lk.h"
 
 namespace vid {
 
@@ -66,15 +67,16 @@ void StereoMatcher::match(const std::vector<cv::Mat>& pyr0, const std::vector<cv
     pts1[i] = guess1.size() == n ? guess1[i] : infinity_guess(xy0[i]);
     if (pts1[i].x < 0.f) pts1[i] = uv0[i];
   }
-  const cv::Size win(p_.lk_window, p_.lk_window);
-  const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
-                              p_.lk_max_iterations, p_.lk_epsilon);
-  const cv::TermCriteria crit_near(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
-                                   p_.lk_predicted_max_iterations, p_.lk_predicted_epsilon);
+  LkParams far{p_.lk_window, p_.stereo_lk_levels, p_.lk_max_iterations, p_.lk_epsilon,
+               p_.lk_min_eigen};
+  LkParams near_lk = far;
+  near_lk.levels = std::min(p_.stereo_track_lk_levels, p_.stereo_lk_levels);
+  near_lk.max_iterations = p_.lk_predicted_max_iterations;
+  near_lk.epsilon = p_.lk_predicted_epsilon;
   std::vector<std::uint8_t> st(n, 0);
   // Points whose guess is last frame's disparity are within a pixel or two: stereo_track_lk_levels
   // (the base image alone by default) suffice. The others (new tracks, at the infinity guess) use
-  // stereo_lk_levels. No error output (it costs one more window interpolation per point).
+  // stereo_lk_levels.
   for (const bool near : {true, false}) {
     std::vector<std::size_t> idx;
     std::vector<cv::Point2f> a, b;
@@ -87,11 +89,7 @@ void StereoMatcher::match(const std::vector<cv::Mat>& pyr0, const std::vector<cv
     }
     if (idx.empty()) continue;
     std::vector<std::uint8_t> s;
-    cv::calcOpticalFlowPyrLK(pyr0, pyr1, a, b, s, cv::noArray(), win,
-                             near ? std::min(p_.stereo_track_lk_levels, p_.stereo_lk_levels)
-                                  : p_.stereo_lk_levels,
-                             near ? crit_near : crit,
-                             cv::OPTFLOW_USE_INITIAL_FLOW, p_.lk_min_eigen);
+    sparse_lk(pyr0, pyr1, a, &b, &s, near ? near_lk : far);
     for (std::size_t k = 0; k < idx.size(); ++k) {
       pts1[idx[k]] = b[k];
       st[idx[k]] = s[k];
@@ -100,33 +98,38 @@ void StereoMatcher::match(const std::vector<cv::Mat>& pyr0, const std::vector<cv
   std::vector<std::uint8_t> st_back(n, 1);
   if (p_.stereo_fb_check_px > 0.0) {
     std::vector<cv::Point2f> back = uv0;
-    cv::calcOpticalFlowPyrLK(pyr1, pyr0, pts1, back, st_back, cv::noArray(), win, p_.stereo_lk_levels, crit,
-                             cv::OPTFLOW_USE_INITIAL_FLOW, p_.lk_min_eigen);
+    sparse_lk(pyr1, pyr0, pts1, &back, &st_back, far);
     for (std::size_t i = 0; i < n; ++i) {
       if (st_back[i] && cv::norm(back[i] - uv0[i]) > p_.stereo_fb_check_px) st_back[i] = 0;
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (!st[i] || !st_back[i]) continue;
-    const Eigen::Vector2d uv(pts1[i].x, pts1[i].y);
-    if (!cam1_.in_image(uv, p_.border_px)) continue;
-    Eigen::Vector2d x1;
-    if (!cam1_.undistort(uv, &x1)) continue;
-    if (epipolar_distance_px(xy0[i], x1) > p_.stereo_epipolar_px) continue;
-    if (cv::norm(pts1[i] - uv0[i]) > p_.stereo_max_disparity_px) continue;
-    double z0 = 0.0, z1 = 0.0;
-    // Parallel rays (far points) are fine; a finite intersection must lie in front.
-    if (triangulate_depths(xy0[i], x1, &z0, &z1) &&
-        (z0 < p_.stereo_min_depth_m || z1 < p_.stereo_min_depth_m)) {
-      // Negative depths near infinity come from noise on far points: accept if the left ray at
-      // infinity projects within the epipolar tolerance of the match.
-      const cv::Point2f inf = infinity_guess(xy0[i]);
-      if (z0 > 0.0 || cv::norm(inf - pts1[i]) > p_.stereo_epipolar_px) continue;
-    }
+    if (!accept(uv0[i], xy0[i], pts1[i], &(*xy1)[i])) continue;
     (*uv1)[i] = pts1[i];
-    (*xy1)[i] = x1;
     (*ok)[i] = 1;
   }
+}
+
+bool StereoMatcher::accept(cv::Point2f uv0, const Eigen::Vector2d& xy0, cv::Point2f uv1,
+                           Eigen::Vector2d* xy1) const {
+  const Eigen::Vector2d uv(uv1.x, uv1.y);
+  if (!cam1_.in_image(uv, p_.border_px)) return false;
+  Eigen::Vector2d x1;
+  if (!cam1_.undistort(uv, &x1)) return false;
+  if (epipolar_distance_px(xy0, x1) > p_.stereo_epipolar_px) return false;
+  if (cv::norm(uv1 - uv0) > p_.stereo_max_disparity_px) return false;
+  double z0 = 0.0, z1 = 0.0;
+  // Parallel rays (far points) are fine; a finite intersection must lie in front.
+  if (triangulate_depths(xy0, x1, &z0, &z1) &&
+      (z0 < p_.stereo_min_depth_m || z1 < p_.stereo_min_depth_m)) {
+    // Negative depths near infinity come from noise on far points: accept if the left ray at
+    // infinity projects within the epipolar tolerance of the match.
+    const cv::Point2f inf = infinity_guess(xy0);
+    if (z0 > 0.0 || cv::norm(inf - uv1) > p_.stereo_epipolar_px) return false;
+  }
+  *xy1 = x1;
+  return true;
 }
 
 }  // namespace vid

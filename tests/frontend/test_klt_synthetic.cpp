@@ -4,11 +4,13 @@
 
 #include <Eigen/Geometry>
 #include <map>
+#include <opencv2/video/tracking.hpp>
 
 #include "frontend/grid_detector.h"
 #include "frontend/gyro_integrator.h"
 #include "frontend/klt_tracker.h"
 #include "frontend/outlier_rejection.h"
+#include "frontend/sparse_lk.h"
 #include "synthetic_images.h"
 
 namespace vid {
@@ -119,6 +121,8 @@ TEST(OutlierRejection, FundamentalAndTwoPointFindInjectedOutliers) {
 struct SyntheticRun {
   double median_err = 0, max_err = 0, mean_features = 0, kept_fraction = 0;
   int frames_with_gyro = 0;
+  std::vector<TrackerStats> stats;      ///< per frame
+  std::vector<double> frame_max_err;    ///< per frame, over its tracks [px]
 };
 
 SyntheticRun run_sequence(const FrontendParams& p, const std::vector<cv::Matx33d>& H,
@@ -137,6 +141,8 @@ SyntheticRun run_sequence(const FrontendParams& p, const std::vector<cv::Matx33d
       }
     }
     const FeatureFrame ff = tracker.process(t, warp(base, H[k]));
+    r.stats.push_back(tracker.stats());
+    r.frame_max_err.push_back(0.0);
     if (k > 0) {
       kept += tracker.stats().ransac_inliers;
       prev_total += tracker.stats().previous;
@@ -155,6 +161,7 @@ SyntheticRun run_sequence(const FrontendParams& p, const std::vector<cv::Matx33d
       const double e = cv::norm(truth - cv::Point2d(o.uv.x(), o.uv.y()));
       errs.push_back(e);
       r.max_err = std::max(r.max_err, e);
+      r.frame_max_err.back() = std::max(r.frame_max_err.back(), e);
     }
   }
   std::sort(errs.begin(), errs.end());
@@ -291,6 +298,136 @@ TEST(KltTracker, TwoPointRansacModeTracks) {
   EXPECT_GE(r.kept_fraction, 0.9);
   // Accumulated over up to 7 frames of 1.6 deg rotation with perspective scale changes.
   EXPECT_LT(r.median_err, 0.2);
+}
+
+/// Constant image motion of (3.1, -1.7) px per frame with a slow rotation and scale change;
+/// `jump` adds a sudden extra shift from frame `jump_at` on (what an impact does to the image).
+std::vector<cv::Matx33d> drifting_sequence(int frames, cv::Point2d jump = {}, int jump_at = 1000) {
+  std::vector<cv::Matx33d> H;
+  for (int k = 0; k < frames; ++k) {
+    const double a = 0.004 * k, s = 1.0 + 0.004 * k;
+    const double jx = k >= jump_at ? jump.x : 0.0, jy = k >= jump_at ? jump.y : 0.0;
+    H.push_back(cv::Matx33d(s * std::cos(a), -s * std::sin(a), 3.1 * k + jx, s * std::sin(a),
+                            s * std::cos(a), -1.7 * k + jy, 1e-6 * k, -2e-6 * k, 1.0));
+  }
+  return H;
+}
+
+TEST(KltTracker, DirectAlignmentNeedsNoKltOnceTheMotionIsKnown) {
+  const auto H = drifting_sequence(12);
+  FrontendParams p;  // direct_alignment on by default
+  const SyntheticRun direct = run_sequence(p, H, {});
+  p.direct_alignment = false;
+  const SyntheticRun klt = run_sequence(p, H, {});
+  // From the third frame every track has its own motion: aligned directly. KLT only for the
+  // few leaving the image; no pyramid in a frame without KLT.
+  for (std::size_t k = 2; k < H.size(); ++k) {
+    const TrackerStats& st = direct.stats[k];
+    EXPECT_GE(st.direct_aligned, st.previous * 95 / 100) << "frame " << k;
+    EXPECT_LE(st.klt_points, st.previous / 20) << "frame " << k;
+    if (st.klt_points == 0) {
+      EXPECT_EQ(st.pyramids, 0) << "frame " << k;
+    }
+    EXPECT_GE(klt.stats[k].klt_points, klt.stats[k].previous) << "frame " << k;
+  }
+  // The same final positions (both end on the birth-patch alignment).
+  EXPECT_LT(direct.median_err, 0.1);
+  EXPECT_LT(direct.max_err, 1.0);
+  EXPECT_NEAR(direct.median_err, klt.median_err, 0.02);
+  EXPECT_GE(direct.kept_fraction, klt.kept_fraction - 0.01);
+}
+
+TEST(KltTracker, DirectAlignmentFallsBackToKltWhenTheMotionJumps) {
+  // Frame 6 shifts 9 px beyond the constant motion: no alignment converges from the predicted
+  // position, pyramidal KLT takes over, and the tracks survive, accurately.
+  const auto H = drifting_sequence(10, {9.0, 4.0}, 6);
+  const SyntheticRun r = run_sequence(FrontendParams{}, H, {});
+  const TrackerStats& jump = r.stats[6];
+  EXPECT_GE(jump.klt_points, jump.previous * 9 / 10);
+  EXPECT_GE(jump.pyramids, 1);
+  EXPECT_GE(jump.ransac_inliers, jump.previous * 9 / 10);
+  EXPECT_LT(r.frame_max_err[6], 1.0);
+  // The next frame predicts from the jumped motion and falls back too: its prediction is off
+  // by the jump again (the motion went back to normal); then the direct path resumes.
+  EXPECT_GE(r.stats[8].direct_aligned, r.stats[8].previous * 9 / 10);
+  EXPECT_LT(r.median_err, 0.1);
+  EXPECT_GE(r.kept_fraction, 0.9);
+}
+
+TEST(KltTracker, StereoRetryWaitsAfterAFailedMatch) {
+  // Rectified pair with a 20 px disparity: left features within 20 px of the left edge have
+  // no right match. Still images: such tracks are retried every stereo_retry_frames + 1 frames.
+  const double d = 20.0;
+  const cv::Mat left = textured_image(640, 480, 9);
+  const cv::Mat right = warp(left, cv::Matx33d(1, 0, -d, 0, 1, 0, 0, 0, 1));
+  FrontendParams p;
+  p.stereo_retry_frames = 3;
+  KltTracker tracker(p, {pinhole(0), pinhole(1, 0.1)});
+  std::vector<int> klt;
+  for (int k = 0; k < 9; ++k) {
+    tracker.process(k * kFrameNs, left, right);
+    klt.push_back(tracker.stats().klt_points);
+    EXPECT_GE(tracker.stats().stereo_matched, static_cast<int>(tracker.tracks().size()) * 85 / 100);
+  }
+  int unmatched = 0;
+  for (const auto& t : tracker.tracks()) unmatched += t.has_right ? 0 : 1;
+  ASSERT_GE(unmatched, 1);
+  EXPECT_EQ(klt[1], 0);
+  EXPECT_EQ(klt[2], 0);
+  EXPECT_EQ(klt[3], 0);
+  EXPECT_EQ(klt[4], unmatched);  // the retry, which fails again
+  EXPECT_EQ(klt[5], 0);
+  EXPECT_EQ(klt[8], unmatched);
+}
+
+TEST(SparseLk, AgreesWithOpenCvAndReportsFailures) {
+  const cv::Mat a = textured_image(640, 480, 3);
+  const cv::Mat b = warp(a, cv::Matx33d(1, 0, 6.3, 0, 1, -4.6, 0, 0, 1));
+  std::vector<cv::Point2f> from;
+  for (int y = 30; y < 460; y += 37) {
+    for (int x = 30; x < 620; x += 41) from.emplace_back(static_cast<float>(x), static_cast<float>(y));
+  }
+  from.emplace_back(3.f, 240.f);    // window reaches past the edge: the padding serves it
+  const LkParams lk;                // 15 px window, 2 levels above the base
+  std::vector<cv::Mat> pa, pb;
+  build_lk_pyramid(a, lk.window, lk.levels, &pa);
+  build_lk_pyramid(b, lk.window, lk.levels, &pb);
+  std::vector<cv::Point2f> ours = from, theirs = from;
+  std::vector<std::uint8_t> ok, st;
+  sparse_lk(pa, pb, from, &ours, &ok, lk);
+  cv::calcOpticalFlowPyrLK(a, b, from, theirs, st, cv::noArray(), cv::Size(lk.window, lk.window),
+                           lk.levels, cv::TermCriteria(3, lk.max_iterations, lk.epsilon),
+                           cv::OPTFLOW_USE_INITIAL_FLOW, lk.min_eigen);
+  // Same status and result as OpenCV's (whose Scharr gradients differ slightly from the
+  // central differences used here) on every point but the padded one.
+  std::vector<double> err, err_cv;
+  for (std::size_t i = 0; i + 1 < from.size(); ++i) {
+    EXPECT_EQ(ok[i], st[i]) << i;
+    if (!ok[i] || !st[i]) continue;
+    const cv::Point2f truth = from[i] + cv::Point2f(6.3f, -4.6f);
+    EXPECT_LT(cv::norm(ours[i] - theirs[i]), 0.05) << i;
+    err.push_back(cv::norm(ours[i] - truth));
+    err_cv.push_back(cv::norm(theirs[i] - truth));
+  }
+  ASSERT_GE(err.size(), 150u);
+  std::sort(err.begin(), err.end());
+  std::sort(err_cv.begin(), err_cv.end());
+  EXPECT_LT(err[err.size() / 2], 0.05);
+  EXPECT_LE(err[err.size() / 2], err_cv[err.size() / 2] + 0.002);
+  EXPECT_LE(err.back(), err_cv.back() + 0.02);
+  EXPECT_TRUE(ok.back());
+  // A flat image has no gradient: fails at the base level; a point far outside: fails.
+  const cv::Mat flat(480, 640, CV_8U, cv::Scalar(90));
+  std::vector<cv::Mat> pf;
+  build_lk_pyramid(flat, lk.window, lk.levels, &pf);
+  std::vector<cv::Point2f> q{{320.f, 240.f}, {-40.f, 240.f}};
+  std::vector<cv::Point2f> to = q;
+  sparse_lk(pf, pf, q, &to, &ok, lk);
+  EXPECT_FALSE(ok[0]);
+  to = q;
+  sparse_lk(pa, pb, q, &to, &ok, lk);
+  EXPECT_TRUE(ok[0]);
+  EXPECT_FALSE(ok[1]);
 }
 
 }  // namespace

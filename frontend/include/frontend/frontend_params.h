@@ -58,6 +58,12 @@ struct FrontendParams {
   double template_epsilon_px = 0.05;  ///< stop after a step moving the centre less [px]
   double template_min_zncc = 0.9;   ///< tracks whose aligned patch correlates less are dropped
   double template_max_shift_px = 2.0;  ///< drop if the alignment moves the KLT result further
+  /// Track by the birth-patch alignment alone where the position is predicted well: a tracked
+  /// feature at its gyro-rotated position plus last frame's residual image motion (its own, or
+  /// its nearest tracked neighbour's for a new feature), a stereo match at last frame's
+  /// disparity. Pyramidal KLT (and its pyramids) only for the rest and for alignments that fail
+  /// or move further than template_max_shift_px. Needs template_refinement (ignored without).
+  bool direct_alignment = true;
 
   // --- temporal outlier rejection ---
   RansacMode ransac = RansacMode::kFundamental;  ///< temporal outlier model (two_point: translation given the gyro rotation)
@@ -75,6 +81,10 @@ struct FrontendParams {
                                      ///< 0 and 1 scored the same on vid17_like, 0 is 0.2 ms faster)
   double stereo_fb_check_px = 0.0;   ///< right -> left backward check [px]; <= 0 disables (off:
                                      ///< the birth patch is checked on the right image instead)
+  /// A track whose stereo match failed waits this many frames before the next attempt: most
+  /// such points are outside the right image (near the left image's outer edge) or occluded
+  /// in it, and would fail (and cost a KLT pass with its pyramids) every frame.
+  int stereo_retry_frames = 4;
   double stereo_max_disparity_px = 200.0;  ///< larger disparities (very near points) are rejected
   double stereo_min_depth_m = 0.1;   ///< triangulated depth must exceed this
 

@@ -3,6 +3,10 @@
 /// @brief Mono / stereo KLT feature tracker: grid FAST detection, gyro-aided pyramidal
 /// Lucas-Kanade between frames, forward-backward and RANSAC outlier rejection, left -> right
 /// stereo matching. Emits FeatureFrame observations with stable ids.
+///
+/// With direct_alignment (default) a track whose position is well predicted (gyro rotation
+/// plus last frame's residual motion; stereo: last disparity) is tracked by aligning its birth
+/// patch alone; KLT and its image pyramids run only for new tracks and failed alignments.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -33,6 +37,9 @@ struct Track {
   cv::Point2f uv1;                  ///< right pixel (valid if has_right)
   Eigen::Vector2d xy1 = Eigen::Vector2d::Zero();
   cv::Point2f right_offset;         ///< uv1 - uv0 at the last stereo match (next guess)
+  cv::Point2f flow;                 ///< last frame's motion beyond the gyro rotation [px]
+  bool has_flow = false;            ///< flow is known (tracked in at least one frame)
+  int stereo_wait = 0;              ///< frames to skip before the next stereo attempt
   std::shared_ptr<const PatchTemplate> birth;  ///< birth patch (null: refinement off)
   PatchWarp warp;                   ///< current affine shape of the birth patch
 };
@@ -46,12 +53,16 @@ struct TrackerStats {
   int ransac_inliers = 0;  ///< survived temporal RANSAC (= tracks kept)
   int detected = 0;        ///< new features
   int stereo_matched = 0;  ///< tracks with a right observation
+  int direct_aligned = 0;  ///< temporal: tracked by the birth-patch alignment alone
+  int stereo_direct = 0;   ///< stereo: matched by the birth-patch alignment alone
+  int klt_points = 0;      ///< points that went through pyramidal KLT (temporal + stereo)
+  int pyramids = 0;        ///< image pyramids built in this frame (0-3)
   bool gyro_used = false;  ///< prediction came from the gyro
   double ms_total = 0.0;   ///< wall time of process() [ms]
-  double ms_pyramid = 0.0;   ///< pre-processing and pyramids (both images)
-  double ms_temporal = 0.0;  ///< temporal KLT, template refinement and RANSAC
+  double ms_pyramid = 0.0;   ///< pre-processing and every pyramid built
+  double ms_temporal = 0.0;  ///< temporal alignment / KLT and RANSAC (its pyramids excluded)
   double ms_detect = 0.0;    ///< detection of new features
-  double ms_stereo = 0.0;    ///< stereo matching
+  double ms_stereo = 0.0;    ///< stereo matching (its pyramids excluded)
 };
 
 /// @brief The KLT frontend for one camera (mono) or a camera pair (stereo: cams[0] left,
@@ -79,15 +90,36 @@ class KltTracker {
 
  private:
   cv::Mat prepare(const cv::Mat& img, const CameraModel& cam) const;
-  void pyramid(const cv::Mat& img, bool derivatives, std::vector<cv::Mat>* pyr) const;
-  void track_temporal(const cv::Mat& img, const std::vector<cv::Mat>& pyr, TimeNs t_ns);
-  /// Aligns the birth patch of each candidate; clears ok[i] for tracks that fail.
-  void refine_to_birth(const cv::Mat& img, std::vector<cv::Point2f>* cur,
+  /// Pyramids of this frame's left / right image and of the previous left image, built on
+  /// first use (build_lk_pyramid).
+  const std::vector<cv::Mat>& left_pyramid();
+  const std::vector<cv::Mat>& right_pyramid();
+  const std::vector<cv::Mat>& prev_pyramid();
+  void build_pyramid(const cv::Mat& img, std::vector<cv::Mat>* pyr);
+  /// Gyro-rotated positions of the tracks in this frame (rotation only; `rot` = uv0 without gyro).
+  void predict_rotation(TimeNs t_ns, std::vector<cv::Point2f>* rot,
+                        std::optional<Eigen::Matrix3d>* R_prev_cur);
+  /// rot + each track's last residual motion (its nearest tracked neighbour's for new tracks).
+  std::vector<cv::Point2f> predict_flow(const std::vector<cv::Point2f>& rot) const;
+  void track_temporal(TimeNs t_ns);
+  /// Pyramidal KLT from prev to cur for the tracks with todo[i], then the birth-patch check;
+  /// sets ok[i] and cur[i] for them.
+  void klt_temporal(const std::vector<std::uint8_t>& todo, std::vector<cv::Point2f>* cur,
+                    std::vector<std::uint8_t>* ok);
+  /// Aligns the birth patch of each candidate with todo[i] && ok[i]; clears ok[i] for tracks
+  /// that fail.
+  void refine_to_birth(const std::vector<std::uint8_t>& todo, std::vector<cv::Point2f>* cur,
                        std::vector<std::uint8_t>* ok);
+  /// Temporal RANSAC over the tracked candidates; keeps the inliers in tracks_.
+  void keep_inliers(const std::vector<cv::Point2f>& rot, const std::vector<cv::Point2f>& cur,
+                    const std::vector<std::uint8_t>& ok,
+                    const std::optional<Eigen::Matrix3d>& R_prev_cur, TimeNs t_ns);
   void detect_new(const cv::Mat& img);
-  void match_stereo(const std::vector<cv::Mat>& pyr0, const std::vector<cv::Mat>& pyr1,
-                    const cv::Mat& right_img);
+  void match_stereo();
+  /// Stereo KLT (and the birth-patch check on the right image) for the tracks with todo[i].
+  void klt_stereo(const std::vector<std::uint8_t>& todo);
   FeatureFrame make_output(TimeNs t_ns) const;
+  bool direct() const { return p_.direct_alignment && p_.template_refinement; }
 
   FrontendParams p_;
   std::vector<std::unique_ptr<CameraModel>> cams_;
@@ -96,7 +128,10 @@ class KltTracker {
   GyroIntegrator gyro_;
   cv::Ptr<cv::CLAHE> clahe_;
   PatchRefiner refiner_;
+  cv::Mat img0_, img1_;  ///< this frame's prepared left / right image
+  cv::Mat prev_img_;     ///< last frame's prepared left image (kept when its pyramid was not built)
   std::vector<cv::Mat> prev_pyr_, cur_pyr_, right_pyr_;
+  bool prev_pyr_ok_ = false, cur_pyr_ok_ = false, right_pyr_ok_ = false;
   std::optional<TimeNs> prev_t_;
   std::vector<Track> tracks_;
   std::uint64_t next_id_ = 1;

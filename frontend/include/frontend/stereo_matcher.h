@@ -1,6 +1,6 @@
 #pragma once
 /// @file stereo_matcher.h
-/// @brief Left -> right matching of features by pyramidal KLT, with an epipolar check from the
+/// @brief Left -> right matching of features by pyramidal KLT (sparse_lk), with an epipolar check from the
 /// calibrated relative pose (essential matrix) and a disparity / depth check.
 
 #include <Eigen/Core>
@@ -20,7 +20,7 @@ class StereoMatcher {
   StereoMatcher(const FrontendParams& params, const CameraModel& cam0, const CameraModel& cam1);
 
   /// @brief Track left points into the right image.
-  /// @param pyr0, pyr1  pyramids from cv::buildOpticalFlowPyramid
+  /// @param pyr0, pyr1  pyramids from build_lk_pyramid
   /// @param uv0         left pixels; xy0 their undistorted normalized coordinates
   /// @param guess1      initial right pixels (empty: projection of the left ray at infinity)
   /// @param close_guess optional, 1 where guess1 is known to be within ~2 px (e.g. last
@@ -31,6 +31,12 @@ class StereoMatcher {
              const std::vector<cv::Point2f>& guess1, const std::vector<std::uint8_t>* close_guess,
              std::vector<cv::Point2f>* uv1,
              std::vector<Eigen::Vector2d>* xy1, std::vector<std::uint8_t>* ok) const;
+
+  /// @brief The geometric checks of a match uv0 (left, normalized xy0) -> uv1 (right): inside
+  /// the right image's border, on the epipolar line, disparity and depth in range. Sets xy1
+  /// (normalized right) when it passes.
+  bool accept(cv::Point2f uv0, const Eigen::Vector2d& xy0, cv::Point2f uv1,
+              Eigen::Vector2d* xy1) const;
 
   /// @brief Right pixel of the left ray through xy0 at infinite depth.
   cv::Point2f infinity_guess(const Eigen::Vector2d& xy0) const;
