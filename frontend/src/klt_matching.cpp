@@ -10,6 +10,23 @@
 #include "frontend/sparse_lk.h"
 
 namespace vid {
+namespace {
+
+/// The track nearest to uv (in the left image) among those with `eligible`; nullptr if none.
+template <typename Eligible>
+const Track* nearest_track(const std::vector<Track>& tracks, cv::Point2f uv, Eligible eligible) {
+  const Track* best = nullptr;
+  float best_d2 = std::numeric_limits<float>::max();
+  for (const Track& t : tracks) {
+    if (!eligible(t)) continue;
+    const cv::Point2f d = t.uv0 - uv;
+    const float d2 = d.x * d.x + d.y * d.y;
+    if (d2 < best_d2) best_d2 = d2, best = &t;
+  }
+  return best;
+}
+
+}  // namespace
 
 void KltTracker::predict_rotation(TimeNs t_ns, std::vector<cv::Point2f>* rot,
                                   std::optional<Eigen::Matrix3d>* R_prev_cur) {
@@ -42,14 +59,10 @@ std::vector<cv::Point2f> KltTracker::predict_flow(const std::vector<cv::Point2f>
   // 1 px, against 4 px with the gyro alone. A new track borrows its nearest neighbour's.
   std::vector<cv::Point2f> pred = rot;
   for (std::size_t i = 0; i < tracks_.size(); ++i) {
-    const Track* src = tracks_[i].has_flow ? &tracks_[i] : nullptr;
-    float best = std::numeric_limits<float>::max();
-    for (std::size_t j = 0; src == nullptr && j < tracks_.size(); ++j) {
-      if (!tracks_[j].has_flow) continue;
-      const cv::Point2f d = tracks_[j].uv0 - tracks_[i].uv0;
-      const float d2 = d.x * d.x + d.y * d.y;
-      if (d2 < best) best = d2, src = &tracks_[j];
-    }
+    const Track* src = tracks_[i].has_flow
+                           ? &tracks_[i]
+                           : nearest_track(tracks_, tracks_[i].uv0,
+                                           [](const Track& t) { return t.has_flow; });
     if (src != nullptr) pred[i] += src->flow;
   }
   return pred;
@@ -207,21 +220,14 @@ void KltTracker::match_stereo() {
     // A track matched last frame starts at its last disparity (which changes by well under a
     // pixel); another one at its nearest matched neighbour's (depth is mostly smooth). The birth
     // patch (in its current shape) is aligned there directly; KLT below if that fails.
-    std::vector<std::size_t> matched;
+    // Tracks are marked matched after the loop, so every guess comes from last frame's matches.
     std::vector<std::uint8_t> aligned(n, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (tracks_[i].has_right) matched.push_back(i);
-    }
     for (std::size_t i = 0; i < n; ++i) {
       Track& t = tracks_[i];
       if (!todo[i] || !t.birth) continue;
-      const Track* src = t.has_right ? &t : nullptr;
-      float best = std::numeric_limits<float>::max();
-      for (std::size_t j = 0; src == nullptr && j < matched.size(); ++j) {
-        const cv::Point2f d = tracks_[matched[j]].uv0 - t.uv0;
-        const float d2 = d.x * d.x + d.y * d.y;
-        if (d2 < best) best = d2, src = &tracks_[matched[j]];
-      }
+      const Track* src =
+          t.has_right ? &t
+                      : nearest_track(tracks_, t.uv0, [](const Track& o) { return o.has_right; });
       if (src == nullptr) continue;
       const cv::Point2f guess = t.uv0 + src->right_offset;
       PatchWarp w = t.warp;
