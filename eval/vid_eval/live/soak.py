@@ -45,8 +45,9 @@ DEFAULT_FAULTS = ["--drop-images", "0.02", "--duplicate-imu", "0.002", "--reorde
                   "--camera-stall", "12", "0.5"]
 
 
-def _imu_span_ns(dataset: pathlib.Path) -> int:
-    """Last minus first IMU time: the shift between two passes of vid_replay --loop."""
+def _imu_range_ns(dataset: pathlib.Path) -> tuple:
+    """First and last IMU time [ns]; their difference is the shift between two passes of
+    vid_replay --loop."""
     csv = dataset / "mav0" / "imu0" / "data.csv"
     if not csv.is_file():
         csv = dataset / "imu0" / "data.csv"
@@ -56,7 +57,7 @@ def _imu_span_ns(dataset: pathlib.Path) -> int:
               if line and not line.startswith("#")]
     if len(stamps) < 2:
         raise InputFormatError(str(csv), "fewer than two IMU samples")
-    return stamps[-1] - stamps[0]
+    return stamps[0], stamps[-1]
 
 
 def _rss_kb(pid: int) -> Optional[int]:
@@ -111,16 +112,37 @@ def _udp_rcvbuf_errors() -> Optional[int]:
         return None
 
 
+def _estimated_until_ns(trajectory: pathlib.Path) -> Optional[int]:
+    """Data time [ns] of the last whole line vid_live has written to its TUM trajectory so far
+    (the file grows while it runs; buffered, so a few lines behind); None before the first."""
+    try:
+        with open(trajectory, "rb") as f:
+            f.seek(0, os.SEEK_END)
+            size = f.tell()
+            f.seek(max(0, size - 1024))
+            tail = f.read().decode("ascii", "replace")
+    except OSError:
+        return None
+    lines = [ln for ln in tail.split("\n")[:-1] if ln and not ln.startswith("#")]  # last one may be partial
+    if not lines:
+        return None
+    try:
+        sec, _, frac = lines[-1].split(" ", 1)[0].partition(".")
+        return int(sec) * 1_000_000_000 + int((frac + "000000000")[:9])
+    except ValueError:
+        return None
+
+
 def _growth(samples: List[dict], warmup_s: float) -> dict:
-    """RSS after warm-up (the first sample at or after ``warmup_s``) and the largest later
-    growth relative to it."""
-    after = [s for s in samples if s["t_s"] >= warmup_s and s["vid_live_kb"]]
+    """RSS after warm-up (the first sample whose data time is at or after ``warmup_s``) and the
+    largest later growth relative to it."""
+    after = [s for s in samples if s["data_s"] is not None and s["data_s"] >= warmup_s and s["vid_live_kb"]]
     if not after:
-        return {"baseline_kb": None, "max_kb": None, "growth": None}
+        return {"baseline_kb": None, "max_kb": None, "growth": None, "samples": 0}
     base = after[0]["vid_live_kb"]
     peak = max(s["vid_live_kb"] for s in after)
     return {"baseline_kb": base, "max_kb": peak, "last_kb": after[-1]["vid_live_kb"],
-            "growth": (peak - base) / base}
+            "growth": (peak - base) / base, "samples": len(after)}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -140,7 +162,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--sample-s", type=float, default=60.0, help="RSS sampling period (default 60 s)")
     p.add_argument("--max-growth", type=float, default=0.05, help="allowed RSS growth (default 0.05)")
     p.add_argument("--warmup-s", type=float, default=None,
-                   help="growth is measured from the first sample after this (default: two passes)")
+                   help="growth is measured from the first sample after this much data time [s] "
+                        "(default: two passes)")
     p.add_argument("--live-out", type=pathlib.Path, default=None,
                    help="vid_live's output folder (default OUT/live); a tmpfs such as /dev/shm keeps "
                         "the disk writeback stalls of a busy machine out of the hour")
@@ -169,7 +192,8 @@ def main(argv: Optional[List[str]] = None) -> int:
                   file=sys.stderr)
             return 2
     try:
-        span_ns = _imu_span_ns(args.dataset)
+        t_first_ns, t_last_ns = _imu_range_ns(args.dataset)
+        span_ns = t_last_ns - t_first_ns
     except InputFormatError as exc:
         print(f"vid-soak: error: {exc}", file=sys.stderr)
         return 2
@@ -180,6 +204,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     faults = [] if args.no_faults else DEFAULT_FAULTS + ["--fault-seed", str(args.fault_seed)]
     report_path = out / "replay_report.json"
     live_out = args.live_out or out / "live"
+    (live_out / "trajectory_tum.txt").unlink(missing_ok=True)  # an old run's would fake progress
     udp_drops_before = _udp_rcvbuf_errors()
     replay_cmd = [str(bins["vid_replay"]), "--dataset", str(args.dataset), "--loop", str(loops),
                   "--report", str(report_path), "--quiet", *faults]
@@ -214,11 +239,16 @@ def main(argv: Optional[List[str]] = None) -> int:
             break
         now = time.monotonic() - t0
         if now >= next_sample:
-            s = {"t_s": round(now, 3), "vid_live_kb": _rss_kb(live.pid),
-                 "vid_replay_kb": _rss_kb(replay.pid) if replay else None}
+            # Warm-up is data time (how far vid_live has estimated), not wall time: a log is read
+            # as fast as vid_live can.
+            until_ns = _estimated_until_ns(live_out / "trajectory_tum.txt")
+            data_s = None if until_ns is None else (until_ns - t_first_ns) * 1e-9
+            s = {"t_s": round(now, 3), "data_s": None if data_s is None else round(data_s, 3),
+                 "vid_live_kb": _rss_kb(live.pid), "vid_replay_kb": _rss_kb(replay.pid) if replay else None}
             samples.append(s)
             if s["vid_live_kb"]:
-                print(f"[soak] {now / 60:6.1f} min  vid_live RSS {s['vid_live_kb'] / 1024:.1f} MB",
+                d = "" if data_s is None else f" (data {data_s / 60:6.2f} min)"
+                print(f"[soak] {now / 60:6.1f} min{d}  vid_live RSS {s['vid_live_kb'] / 1024:.1f} MB",
                       flush=True)
             next_sample += args.sample_s
         time.sleep(min(0.2, args.sample_s))
