@@ -97,12 +97,43 @@ std::vector<cv::Point2f> GridDetector::detect(const cv::Mat& image,
   std::vector<std::vector<cv::KeyPoint>> buckets(static_cast<std::size_t>(n_cells));
   if (idle_.size() != static_cast<std::size_t>(n_cells)) idle_.assign(static_cast<std::size_t>(n_cells), 0);
   std::vector<std::uint8_t> searched(static_cast<std::size_t>(n_cells), 0);
+  std::vector<int> candidates;  // below quota and not resting
   for (int c = 0; c < n_cells; ++c) {
     if (count[static_cast<std::size_t>(c)] >= quota) continue;
     if (idle_[static_cast<std::size_t>(c)] > 0) {
       --idle_[static_cast<std::size_t>(c)];
       continue;
     }
+    candidates.push_back(c);
+  }
+  // Search only the cells an even fill needs (water-filling): raising every candidate cell to
+  // a common level L costs fill(L) features; `wanted` reaches level L* < quota and leaves
+  // `rest` = wanted - fill(L*) features, one each for cells at level L*. So every cell below L*
+  // is searched (it can also take one of the rest), plus as many cells at exactly L* as the
+  // rest still needs, taken in turn from call to call. FAST costs per pixel searched: searching
+  // every cell below its quota spent a whole cell's search on one corner the spread did not
+  // need (fast_yaw: 29 of 48 cells per call for 18 new features).
+  const auto fill = [&](int level) {
+    int n = 0;
+    for (const int c : candidates) n += std::max(0, level - count[static_cast<std::size_t>(c)]);
+    return n;
+  };
+  int level = 0;
+  while (level < quota - 1 && fill(level + 1) <= wanted) ++level;
+  std::vector<int> to_search, at_level;
+  for (const int c : candidates) {
+    (count[static_cast<std::size_t>(c)] < level ? to_search : at_level).push_back(c);
+  }
+  int rest = wanted - fill(level) - static_cast<int>(to_search.size());
+  if (!at_level.empty()) {
+    const std::size_t start = next_cell_ % at_level.size();
+    std::size_t taken = 0;
+    for (; taken < at_level.size() && rest > 0; ++taken, --rest) {
+      to_search.push_back(at_level[(start + taken) % at_level.size()]);
+    }
+    next_cell_ = start + taken;
+  }
+  for (const int c : to_search) {
     searched[static_cast<std::size_t>(c)] = 1;
     const int x0 = static_cast<int>(std::floor((c % gc) * cw)) - 3;
     const int y0 = static_cast<int>(std::floor((c / gc) * ch)) - 3;

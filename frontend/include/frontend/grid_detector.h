@@ -17,7 +17,8 @@ class GridDetector {
 
   /// @brief New corners (at most `wanted`) at least min_distance_px from `existing` and from
   /// each other, at most a per-cell quota in each grid cell (existing features count toward
-  /// the quota); strongest FAST responses first. Cells left empty at fast_threshold are
+  /// the quota); strongest FAST responses first. Only the cells an even fill of `wanted` needs
+  /// are searched (the emptiest; see the .cpp). Cells left empty at fast_threshold are
   /// retried at fast_threshold_min. A cell searched without result is skipped by the next
   /// detect_cell_retry_frames calls (texture-less regions are not searched every frame).
   std::vector<cv::Point2f> detect(const cv::Mat& image, const std::vector<cv::Point2f>& existing,
@@ -25,7 +26,8 @@ class GridDetector {
 
  private:
   FrontendParams p_;
-  std::vector<int> idle_;  ///< per cell: calls left before it is searched again
+  std::vector<int> idle_;      ///< per cell: calls left before it is searched again
+  std::size_t next_cell_ = 0;  ///< where the next call starts taking cells at the fill level
 };
 
 }  // namespace vid
