@@ -133,8 +133,17 @@ void KltTracker::track_temporal(TimeNs t_ns) {
 
   std::vector<std::uint8_t> ok(n, 0), todo(n, 1);
   if (direct()) {
+    const CameraModel& cam = *cams_[0];
     for (std::size_t i = 0; i < n; ++i) {
       Track& t = tracks_[i];
+      // Leaving the image: predicted outside the kept area, or where its birth patch no longer
+      // fits. No alignment can keep it there and KLT from there almost never finds it inside
+      // (fast_yaw: 40 % of the KLT fallbacks, 6 in 1755 kept after KLT): dropped without KLT.
+      if (!cam.in_image(Eigen::Vector2d(cur[i].x, cur[i].y), p_.border_px) ||
+          (t.birth && !refiner_.fits(img0_.size(), cur[i], t.warp))) {
+        todo[i] = 0;
+        continue;
+      }
       if (!t.birth) continue;
       PatchWarp w = t.warp;
       const RefineResult r = refiner_.refine(img0_, *t.birth, cur[i], &w);

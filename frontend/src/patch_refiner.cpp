@@ -112,6 +112,20 @@ PatchRefiner::PatchRefiner(int half, int max_iterations, double epsilon_px, doub
   }
 }
 
+bool PatchRefiner::fits(cv::Size size, cv::Point2f uv, const PatchWarp& warp) const {
+  // The same corner test as sample_grid's (the map is affine).
+  const float h = static_cast<float>(half_);
+  const float max_x = static_cast<float>(size.width - 1), max_y = static_cast<float>(size.height - 1);
+  for (int sy = -1; sy <= 1; sy += 2) {
+    for (int sx = -1; sx <= 1; sx += 2) {
+      const float x = warp.A(0, 0) * sx * h + warp.A(0, 1) * sy * h + uv.x;
+      const float y = warp.A(1, 0) * sx * h + warp.A(1, 1) * sy * h + uv.y;
+      if (!(x >= 0.f && y >= 0.f && x < max_x && y < max_y)) return false;
+    }
+  }
+  return true;
+}
+
 bool PatchRefiner::sample(const cv::Mat& img, const Eigen::Matrix2f& A, cv::Point2f c,
                           float* buf) const {
   return sample_grid(img, half_, A, c, buf, xs_.data(), ys_.data());

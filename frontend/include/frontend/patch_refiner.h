@@ -65,6 +65,10 @@ class PatchRefiner {
   float zncc(const cv::Mat& img, const PatchTemplate& t, cv::Point2f uv,
              const PatchWarp& warp) const;
 
+  /// @brief Whether the patch at uv under shape `warp` lies inside an image of `size` (as
+  /// refine() needs to sample it).
+  bool fits(cv::Size size, cv::Point2f uv, const PatchWarp& warp) const;
+
   int half() const { return half_; }
 
  private:
