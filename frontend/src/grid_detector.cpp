@@ -55,22 +55,46 @@ class DistanceMask {
 
 }  // namespace
 
+int GridDetector::cell_of(const cv::Point2f& p) const {
+  const int gc = std::max(1, p_.grid_cols), gr = std::max(1, p_.grid_rows);
+  const double cw = static_cast<double>(size_.width) / gc, ch = static_cast<double>(size_.height) / gr;
+  const int x = std::clamp(static_cast<int>(p.x / cw), 0, gc - 1);
+  const int y = std::clamp(static_cast<int>(p.y / ch), 0, gr - 1);
+  return y * gc + x;
+}
+
 std::vector<cv::Point2f> GridDetector::detect(const cv::Mat& image,
                                               const std::vector<cv::Point2f>& existing,
                                               int wanted) {
+  std::fill(born_.begin(), born_.end(), 0);
+  if (wanted <= 0 || image.empty()) return {};
+  size_ = image.size();
+  std::vector<cv::Point2f> out = detect_in_cells(image, existing, wanted);
+  born_.assign(static_cast<std::size_t>(std::max(1, p_.grid_cols) * std::max(1, p_.grid_rows)), 0);
+  for (const auto& p : out) ++born_[static_cast<std::size_t>(cell_of(p))];
+  return out;
+}
+
+void GridDetector::first_frame_losses(const std::vector<cv::Point2f>& lost) {
+  if (born_.empty() || idle_.size() != born_.size()) return;
+  std::vector<int> died(born_.size(), 0);
+  for (const auto& p : lost) ++died[static_cast<std::size_t>(cell_of(p))];
+  for (std::size_t c = 0; c < born_.size(); ++c) {
+    if (born_[c] > 0 && died[c] >= born_[c]) idle_[c] = p_.detect_cell_retry_frames;
+  }
+  std::fill(born_.begin(), born_.end(), 0);
+}
+
+std::vector<cv::Point2f> GridDetector::detect_in_cells(const cv::Mat& image,
+                                                       const std::vector<cv::Point2f>& existing,
+                                                       int wanted) {
   std::vector<cv::Point2f> out;
-  if (wanted <= 0 || image.empty()) return out;
   const int W = image.cols, H = image.rows;
   const int gc = std::max(1, p_.grid_cols), gr = std::max(1, p_.grid_rows);
   const int n_cells = gc * gr;
   const int quota = static_cast<int>(
       std::ceil(static_cast<double>(existing.size() + static_cast<std::size_t>(wanted)) / n_cells));
   const double cw = static_cast<double>(W) / gc, ch = static_cast<double>(H) / gr;
-  auto cell_of = [&](const cv::Point2f& p) {
-    const int x = std::clamp(static_cast<int>(p.x / cw), 0, gc - 1);
-    const int y = std::clamp(static_cast<int>(p.y / ch), 0, gr - 1);
-    return y * gc + x;
-  };
 
   DistanceMask mask(W, H, p_.min_distance_px);
   std::vector<int> count(static_cast<std::size_t>(n_cells), 0);

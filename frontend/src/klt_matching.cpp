@@ -199,8 +199,10 @@ void KltTracker::keep_inliers(const std::vector<cv::Point2f>& rot,
 
   std::vector<Track> kept;
   kept.reserve(idx.size());
+  std::vector<std::uint8_t> keep(tracks_.size(), 0);
   for (std::size_t k = 0; k < idx.size(); ++k) {
     if (!inl[k]) continue;
+    keep[idx[k]] = 1;
     Track tr = tracks_[idx[k]];
     tr.flow = cur[idx[k]] - rot[idx[k]];
     tr.has_flow = true;
@@ -209,6 +211,12 @@ void KltTracker::keep_inliers(const std::vector<cv::Point2f>& rot,
     ++tr.age;
     kept.push_back(tr);
   }
+  // Last frame's new features that did not survive their first frame: their cells rest.
+  std::vector<cv::Point2f> lost_at_birth;
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    if (!keep[i] && tracks_[i].age == 0) lost_at_birth.push_back(tracks_[i].uv0);
+  }
+  detector_.first_frame_losses(lost_at_birth);
   tracks_ = std::move(kept);
   stats_.ransac_inliers = static_cast<int>(tracks_.size());
 }

@@ -24,10 +24,22 @@ class GridDetector {
   std::vector<cv::Point2f> detect(const cv::Mat& image, const std::vector<cv::Point2f>& existing,
                                   int wanted);
 
+  /// @brief The features of the last detect() that were lost in their first tracked frame
+  /// (their last positions); call once per frame after tracking, before detect(). A cell whose
+  /// new features were all lost at once (noise corners of a dark or plain region, flicker)
+  /// rests as a cell searched in vain does, instead of taking the budget again every frame.
+  void first_frame_losses(const std::vector<cv::Point2f>& lost);
+
  private:
+  std::vector<cv::Point2f> detect_in_cells(const cv::Mat& image, const std::vector<cv::Point2f>& existing,
+                                           int wanted);
+  int cell_of(const cv::Point2f& p) const;  ///< grid cell of a pixel of the last image
+
   FrontendParams p_;
   std::vector<int> idle_;      ///< per cell: calls left before it is searched again
   std::size_t next_cell_ = 0;  ///< where the next call starts taking cells at the fill level
+  std::vector<int> born_;      ///< per cell: features the last detect() returned
+  cv::Size size_;              ///< image size of the last detect()
 };
 
 }  // namespace vid
