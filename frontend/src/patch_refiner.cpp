@@ -9,6 +9,8 @@
 #include <immintrin.h>
 #endif
 
+#include "bilinear.h"
+
 namespace vid {
 namespace {
 
@@ -34,20 +36,11 @@ bool sample_grid(const cv::Mat& img, int h, const Eigen::Matrix2f& A, cv::Point2
   const float dev = (A - Eigen::Matrix2f::Identity()).cwiseAbs().maxCoeff() * static_cast<float>(h);
   if (dev < 0.005f || xs == nullptr || ys == nullptr) {
     if (dev >= 0.005f) return false;  // affine map without offsets: a caller bug
-    // (Nearly) a pure translation: one set of bilinear weights for every sample, which the
-    // compiler vectorizes along the rows.
+    // (Nearly) a pure translation: one set of bilinear weights for every sample.
     const float x = c.x - static_cast<float>(h), y = c.y - static_cast<float>(h);
-    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
-    const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
-    const float w00 = (1.f - fx) * (1.f - fy), w01 = fx * (1.f - fy);
-    const float w10 = (1.f - fx) * fy, w11 = fx * fy;
-    for (int r = 0; r < n; ++r) {
-      const std::uint8_t* p = base + static_cast<std::size_t>(y0 + r) * step + x0;
-      const std::uint8_t* q = p + step;
-      for (int k = 0; k < n; ++k) {
-        *out++ = w00 * p[k] + w01 * p[k + 1] + w10 * q[k] + w11 * q[k + 1];
-      }
-    }
+    const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);  // x, y >= 0: truncation floors
+    sample_translated(base + static_cast<std::size_t>(y0) * step + x0, static_cast<std::ptrdiff_t>(step), n,
+                      x - static_cast<float>(x0), y - static_cast<float>(y0), out);
     return true;
   }
   const int N = n * n;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <opencv2/video/tracking.hpp>
 
+#include "bilinear.h"
+
 namespace vid {
 namespace {
 
@@ -22,15 +24,9 @@ bool sample_square(const cv::Mat& img, float x, float y, int n, float* out) {
       y0 + n >= whole.height - ofs.y) {
     return false;
   }
-  const float ax = x - fx0, ay = y - fy0;
-  const float w00 = (1.f - ax) * (1.f - ay), w01 = ax * (1.f - ay);
-  const float w10 = (1.f - ax) * ay, w11 = ax * ay;
   const auto step = static_cast<std::ptrdiff_t>(img.step[0]);
-  for (int r = 0; r < n; ++r) {
-    const std::uint8_t* a = img.data + (y0 + r) * step + x0;  // rows above 0: the padding
-    const std::uint8_t* b = a + step;
-    for (int k = 0; k < n; ++k) *out++ = w00 * a[k] + w01 * a[k + 1] + w10 * b[k] + w11 * b[k + 1];
-  }
+  // Rows above 0 and columns left of it: the padding.
+  sample_translated(img.data + y0 * step + x0, step, n, x - fx0, y - fy0, out);
   return true;
 }
 
