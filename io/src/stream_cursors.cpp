@@ -6,6 +6,8 @@
 #include <map>
 #include <utility>
 
+#include "vio_core/median.h"
+
 namespace vid::io::detail {
 
 // ---------------------------------------------------------------------------------------------
@@ -26,8 +28,7 @@ void TimedRows::check_gap(TimeNs gap, std::size_t line) {
     if (first_gaps_.size() < kPeriodSamples) return;
     std::vector<TimeNs> g;
     for (const auto& [d, l] : first_gaps_) g.push_back(d);
-    std::nth_element(g.begin(), g.begin() + static_cast<std::ptrdiff_t>(g.size() / 2), g.end());
-    period_ = g[g.size() / 2];
+    period_ = upper_median(g);
     auto first = std::move(first_gaps_);
     first_gaps_.clear();
     for (const auto& [d, l] : first) check_gap(d, l);

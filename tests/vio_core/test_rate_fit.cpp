@@ -5,7 +5,9 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
+#include "vio_core/median.h"
 #include "vio_core/rate_fit.h"
 
 namespace {
@@ -121,6 +123,15 @@ TEST(RateFit, AdaptiveMeasuresTheNoiseInsteadOfAssumingIt) {
   ASSERT_TRUE(w.has_value());
   EXPECT_EQ(w->half_window_ns, kMaxH);
   EXPECT_FALSE(fit_rate_adaptive(samples(0, 2'000'000'000, 0.0, 1), 5'000'000'000, kMaxH, kMinH).has_value());
+}
+
+TEST(UpperMedian, MiddleElementOfOddAndUpperOfEvenCounts) {
+  std::vector<int> odd{9, 1, 5, 3, 7};
+  EXPECT_EQ(upper_median(odd), 5);
+  std::vector<double> even{4.0, 1.0, 3.0, 2.0};
+  EXPECT_EQ(upper_median(even), 3.0);
+  std::vector<long> one{42};
+  EXPECT_EQ(upper_median(one), 42);
 }
 
 }  // namespace

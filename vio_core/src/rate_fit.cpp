@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdlib>
 
+#include "vio_core/median.h"
+
 namespace vid {
 
 namespace {
@@ -56,16 +58,12 @@ Eigen::Vector3d noise_variance(const std::vector<GyroSample>& samples, TimeNs t_
       for (int k = 0; k < 3; ++k) d[k].push_back(s.gyro_I[k] - prev->gyro_I[k]);
     prev = &s;
   }
-  const auto median = [](std::vector<double>& v) {
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
   Eigen::Vector3d var = Eigen::Vector3d::Zero();
   for (int k = 0; k < 3; ++k) {
     if (d[k].empty()) continue;
-    const double m = median(d[k]);
+    const double m = upper_median(d[k]);
     for (double& x : d[k]) x = std::abs(x - m);
-    const double sigma_diff = 1.4826 * median(d[k]);
+    const double sigma_diff = 1.4826 * upper_median(d[k]);
     var[k] = 0.5 * sigma_diff * sigma_diff;
   }
   return var;

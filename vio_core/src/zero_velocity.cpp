@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "vio_core/ekf_update.h"
+#include "vio_core/median.h"
 
 namespace vid {
 
@@ -20,9 +21,7 @@ WindowParallax rotation_compensated_parallax(const std::vector<std::pair<Eigen::
   WindowParallax out;
   out.features = static_cast<int>(d.size());
   if (d.empty()) return out;
-  const auto mid = d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2);
-  std::nth_element(d.begin(), mid, d.end());
-  out.median_px = *mid;
+  out.median_px = upper_median(d);
   return out;
 }
 
