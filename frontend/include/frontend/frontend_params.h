@@ -25,7 +25,7 @@ struct FrontendParams {
   int fast_threshold_min = 7;   ///< retry threshold for cells with no corner at fast_threshold
   double min_distance_px = 12;  ///< minimum distance between features [px]
   int border_px = 8;            ///< features closer to the image edge are dropped [px]
-  int detect_cell_retry_frames = 4;  ///< a cell searched in vain is skipped this many frames
+  int detect_cell_retry_frames = 4;  ///< a cell searched in vain (or whose new features all died at once) is skipped this many frames
   int detect_min_missing = 8;   ///< detect only when at least this many features are missing
 
   // --- pre-processing ---
