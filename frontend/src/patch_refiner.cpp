@@ -14,23 +14,34 @@
 namespace vid {
 namespace {
 
+/// True if the four corners of the (2 h + 1)^2 grid mapped by A around c lie inside the image
+/// (then every sample does: the map is affine); *corner_y_max gets the lowest corner's row.
+bool corners_inside(cv::Size size, int h, const Eigen::Matrix2f& A, cv::Point2f c,
+                    float* corner_y_max = nullptr) {
+  const float hf = static_cast<float>(h);
+  const float max_x = static_cast<float>(size.width - 1), max_y = static_cast<float>(size.height - 1);
+  float y_max = 0.f;
+  for (int sy = -1; sy <= 1; sy += 2) {
+    for (int sx = -1; sx <= 1; sx += 2) {
+      const float x = A(0, 0) * sx * hf + A(0, 1) * sy * hf + c.x;
+      const float y = A(1, 0) * sx * hf + A(1, 1) * sy * hf + c.y;
+      if (!(x >= 0.f && y >= 0.f && x < max_x && y < max_y)) return false;
+      y_max = std::max(y_max, y);
+    }
+  }
+  if (corner_y_max != nullptr) *corner_y_max = y_max;
+  return true;
+}
+
 /// Bilinear samples of a (2 h + 1)^2 grid mapped by A around c; false if any leaves the image.
 /// xs, ys: the grid offsets (row-major), used on the affine path; may be null when A is the
 /// identity (template creation).
 bool sample_grid(const cv::Mat& img, int h, const Eigen::Matrix2f& A, cv::Point2f c, float* out,
                  const float* xs = nullptr, const float* ys = nullptr) {
   const int n = 2 * h + 1;
-  const float max_x = static_cast<float>(img.cols - 1), max_y = static_cast<float>(img.rows - 1);
-  // Corners of the grid decide whether every sample is inside (the map is affine).
+  const float max_y = static_cast<float>(img.rows - 1);
   float corner_y_max = 0.f;
-  for (int sy = -1; sy <= 1; sy += 2) {
-    for (int sx = -1; sx <= 1; sx += 2) {
-      const float x = A(0, 0) * sx * h + A(0, 1) * sy * h + c.x;
-      const float y = A(1, 0) * sx * h + A(1, 1) * sy * h + c.y;
-      if (!(x >= 0.f && y >= 0.f && x < max_x && y < max_y)) return false;
-      corner_y_max = std::max(corner_y_max, y);
-    }
-  }
+  if (!corners_inside(img.size(), h, A, c, &corner_y_max)) return false;
   const std::size_t step = img.step[0];
   const std::uint8_t* base = img.ptr<std::uint8_t>(0);
   const float dev = (A - Eigen::Matrix2f::Identity()).cwiseAbs().maxCoeff() * static_cast<float>(h);
@@ -106,17 +117,7 @@ PatchRefiner::PatchRefiner(int half, int max_iterations, double epsilon_px, doub
 }
 
 bool PatchRefiner::fits(cv::Size size, cv::Point2f uv, const PatchWarp& warp) const {
-  // The same corner test as sample_grid's (the map is affine).
-  const float h = static_cast<float>(half_);
-  const float max_x = static_cast<float>(size.width - 1), max_y = static_cast<float>(size.height - 1);
-  for (int sy = -1; sy <= 1; sy += 2) {
-    for (int sx = -1; sx <= 1; sx += 2) {
-      const float x = warp.A(0, 0) * sx * h + warp.A(0, 1) * sy * h + uv.x;
-      const float y = warp.A(1, 0) * sx * h + warp.A(1, 1) * sy * h + uv.y;
-      if (!(x >= 0.f && y >= 0.f && x < max_x && y < max_y)) return false;
-    }
-  }
-  return true;
+  return corners_inside(size, half_, warp.A, uv);
 }
 
 bool PatchRefiner::sample(const cv::Mat& img, const Eigen::Matrix2f& A, cv::Point2f c,
