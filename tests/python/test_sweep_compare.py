@@ -45,3 +45,14 @@ def test_different_seeds_and_failed_runs_are_named(tmp_path):
     assert "hover: seeds before [1], after [2]" in r.stderr
     # the failed run is not averaged in
     assert "| impacts (2) | 0.0100 (0.0100) / 0.0100 (0.0100) |" in r.stdout
+
+
+def test_paired_table_gives_the_per_seed_ate_change(tmp_path):
+    before = _sweep(tmp_path, "b", [_run(s, 0.010, 0.5, 1.0) for s in (1, 2, 3)])
+    # seed 1 -20 %, seed 2 +0.5 % (within 1 %), seed 3 +50 %; seed 4 only after: not paired
+    after = _sweep(tmp_path, "a", [_run(1, 0.008, 0.5, 1.0), _run(2, 0.01005, 0.5, 1.0),
+                                   _run(3, 0.015, 0.5, 1.0), _run(4, 0.1, 0.5, 1.0, preset="hover")])
+    r = subprocess.run([sys.executable, str(SCRIPT), "--before", str(before), "--after", str(after), "--paired"],
+                       capture_output=True, text=True)
+    assert "| impacts | 3 | +0% (-20% .. +50%) | 1 / 1 |" in r.stdout, r.stdout
+    assert "| hover |" not in r.stdout.split("better / worse")[1]
