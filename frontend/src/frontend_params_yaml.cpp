@@ -42,6 +42,7 @@ const Field<int> kInts[] = {
 };
 const Field<double> kDoubles[] = {
     VID_FIELD(min_distance_px),
+    VID_FIELD(fast_noise_factor),
     VID_FIELD(clahe_clip_limit),
     VID_FIELD(lk_epsilon),
     VID_FIELD(lk_predicted_epsilon),
@@ -132,6 +133,7 @@ FrontendParams frontend_params_from_yaml(const io::YamlMap& m, FrontendParams p)
   if (p.stereo_retry_frames < 0) m.fail("stereo_retry_frames", "must be >= 0");
   if (p.detect_cell_retry_frames < 0) m.fail("detect_cell_retry_frames", "must be >= 0");
   if (p.min_distance_px < 0.0) m.fail("min_distance_px", "must be >= 0");
+  if (!(p.fast_noise_factor >= 0.0)) m.fail("fast_noise_factor", "must be >= 0");
   if (p.ransac_confidence <= 0.0 || p.ransac_confidence >= 1.0) {
     m.fail("ransac_confidence", "must be in (0, 1)");
   }

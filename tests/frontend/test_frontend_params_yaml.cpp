@@ -43,7 +43,7 @@ TEST(FrontendParamsYaml, PrintParseRoundTripAndEquality) {
     else changed << (std::stod(value) == 0.0 ? 0.001 : std::stod(value) * 0.99);
     EXPECT_FALSE(parse(key + ": " + changed.str() + "\n") == FrontendParams{}) << key;
   }
-  EXPECT_EQ(keys, 41);  // every FrontendParams field
+  EXPECT_EQ(keys, 42);  // every FrontendParams field
 }
 
 TEST(FrontendParamsYaml, ErrorsNameFileLineAndKey) {

@@ -23,6 +23,14 @@ struct FrontendParams {
   int grid_rows = 6;            ///< detection grid rows
   int fast_threshold = 20;      ///< FAST intensity threshold
   int fast_threshold_min = 7;   ///< retry threshold for cells with no corner at fast_threshold
+  /// Both FAST thresholds are raised to at least this many times the image's noise sigma
+  /// (estimate_noise_sigma, once per detection call); 0 = fixed thresholds (default). Pure
+  /// noise gives FAST ~2.5 corners per 80x80 cell at 3 sigma, ~50 at 2 sigma and hundreds
+  /// below: a dark, high-gain camera (dark_room: sigma ~11 levels) at the fixed 20 / 7 takes
+  /// mostly noise corners. Off by default: at 3 it also raises the retry threshold of
+  /// moderately noisy images with plain surfaces (vid17_hard: 7 -> 8), which cost 22 % ATE
+  /// there (README "Frontend: FAST thresholds and image noise").
+  double fast_noise_factor = 0.0;
   double min_distance_px = 12;  ///< minimum distance between features [px]
   int border_px = 8;            ///< features closer to the image edge are dropped [px]
   int detect_cell_retry_frames = 4;  ///< a cell searched in vain (or whose new features all died at once) is skipped this many frames

@@ -19,7 +19,8 @@ class GridDetector {
   /// each other, at most a per-cell quota in each grid cell (existing features count toward
   /// the quota); strongest FAST responses first. Only the cells an even fill of `wanted` needs
   /// are searched (the emptiest; see the .cpp). Cells left empty at fast_threshold are
-  /// retried at fast_threshold_min. A cell searched without result is skipped by the next
+  /// retried at fast_threshold_min; both thresholds are at least fast_noise_factor times the
+  /// image's noise sigma. A cell searched without result is skipped by the next
   /// detect_cell_retry_frames calls (texture-less regions are not searched every frame).
   std::vector<cv::Point2f> detect(const cv::Mat& image, const std::vector<cv::Point2f>& existing,
                                   int wanted);
@@ -29,6 +30,9 @@ class GridDetector {
   /// new features were all lost at once (noise corners of a dark or plain region, flicker)
   /// rests as a cell searched in vain does, instead of taking the budget again every frame.
   void first_frame_losses(const std::vector<cv::Point2f>& lost);
+
+  /// @brief Noise sigma of the last detect()'s image [gray levels] (0 if not estimated).
+  double noise_sigma() const { return noise_sigma_; }
 
  private:
   std::vector<cv::Point2f> detect_in_cells(const cv::Mat& image, const std::vector<cv::Point2f>& existing,
@@ -40,6 +44,7 @@ class GridDetector {
   std::size_t next_cell_ = 0;  ///< where the next call starts taking cells at the fill level
   std::vector<int> born_;      ///< per cell: features the last detect() returned
   cv::Size size_;              ///< image size of the last detect()
+  double noise_sigma_ = 0.0;   ///< estimate_noise_sigma of the last detect()'s image
 };
 
 }  // namespace vid
