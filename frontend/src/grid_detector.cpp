@@ -1,11 +1,11 @@
 #include "frontend/grid_detector.h"
 
-#include "frontend/image_noise.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <opencv2/features2d.hpp>
+
+#include "frontend/image_noise.h"
 
 namespace vid {
 namespace {
@@ -125,8 +125,7 @@ std::vector<cv::Point2f> GridDetector::detect_in_cells(const cv::Mat& image,
   // ~50 at 2 sigma, hundreds below), so both thresholds are raised to fast_noise_factor sigma.
   int threshold = p_.fast_threshold, threshold_min = p_.fast_threshold_min;
   if (p_.fast_noise_factor > 0.0) {
-    noise_sigma_ = estimate_noise_sigma(image);
-    const int floor = static_cast<int>(std::ceil(p_.fast_noise_factor * noise_sigma_));
+    const int floor = static_cast<int>(std::ceil(p_.fast_noise_factor * estimate_noise_sigma(image)));
     threshold = std::max(threshold, floor);
     threshold_min = std::max(threshold_min, floor);
   }

@@ -31,9 +31,6 @@ class GridDetector {
   /// rests as a cell searched in vain does, instead of taking the budget again every frame.
   void first_frame_losses(const std::vector<cv::Point2f>& lost);
 
-  /// @brief Noise sigma of the last detect()'s image [gray levels] (0 if not estimated).
-  double noise_sigma() const { return noise_sigma_; }
-
  private:
   std::vector<cv::Point2f> detect_in_cells(const cv::Mat& image, const std::vector<cv::Point2f>& existing,
                                            int wanted);
@@ -44,7 +41,6 @@ class GridDetector {
   std::size_t next_cell_ = 0;  ///< where the next call starts taking cells at the fill level
   std::vector<int> born_;      ///< per cell: features the last detect() returned
   cv::Size size_;              ///< image size of the last detect()
-  double noise_sigma_ = 0.0;   ///< estimate_noise_sigma of the last detect()'s image
 };
 
 }  // namespace vid
