@@ -1,5 +1,6 @@
 /// @file main.cpp
-/// @brief vid_sim: scenario YAML -> simulated dataset folder (docs/formats.md §1).
+/// @brief vid_sim: scenario YAML -> simulated dataset folder (docs/formats.md §1); with
+/// --camera-along only the camera streams along a recorded trajectory (sim/camera_along.h).
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -13,18 +14,20 @@
 #include "app/progress.h"
 #include "app/cli.h"
 #include "app/run_main.h"
+#include "sim/camera_along.h"
 #include "sim/dataset_sink.h"
 #include "sim/scenario.h"
 #include "sim/simulator.h"
 
 int main(int argc, char** argv) {
   return vid::app::run_main("vid_sim", [&]() -> int {
-    CLI::App cli{"vid_sim: write a simulated VID-Dataset-like sequence (scenario YAML -> dataset folder)"};
+    CLI::App cli{"vid_sim: write a simulated VID-Dataset-like sequence (scenario YAML -> dataset folder), or with "
+                  "--camera-along only the camera streams along a recorded trajectory"};
     std::string scenario_file, out_dir;
     std::optional<std::uint64_t> seed;
     std::optional<double> duration;
-    std::string heading;
-    bool features_only = false, no_noise = false, quiet = false;
+    std::string heading, along_file;
+    bool features_only = false, no_noise = false, quiet = false, overwrite = false;
     cli.add_option("--scenario", scenario_file, "scenario YAML (see config/sim/README.md)")->required();
     cli.add_option("--out", out_dir, "output folder (DIR/mav0/...)")->required();
     cli.add_option("--seed", seed, "random seed (default: the scenario's seed)");
@@ -36,8 +39,17 @@ int main(int argc, char** argv) {
     cli.add_flag("--features-only", features_only, "write feat0 + landmarks.csv, no images");
     cli.add_flag("--no-noise", no_noise, "turn every sensor noise and random walk off");
     cli.add_flag("--quiet", quiet, "no log output");
+    cli.add_option("--camera-along", along_file,
+                   "TUM file 't[s] x y z qx qy qz qw' of T_WI (e.g. motion capture): write ONLY the camera "
+                   "streams (camN, feat0, landmarks.csv) at the scenario's camera rate along it into OUT/mav0; "
+                   "the scenario's cameras, scene, render, features, seed and noise are used, its trajectory, "
+                   "vehicle, IMU, rotor sensor, forces and ground truth ignored; other files in OUT stay untouched");
+    cli.add_flag("--overwrite", overwrite, "with --camera-along: replace existing camera streams in OUT");
     if (const auto code = vid::app::parse_cli(cli, argc, argv)) return *code;
     if (quiet) spdlog::set_level(spdlog::level::warn);
+    if (along_file.empty() && overwrite) throw vid::app::UsageError("--overwrite: only with --camera-along");
+    if (!along_file.empty() && (duration || !heading.empty()))
+      throw vid::app::UsageError("--camera-along: --duration and --initial-heading do not apply (the recording sets both)");
 
     vid::sim::Scenario sc = vid::sim::load_scenario(scenario_file);
     try {
@@ -49,6 +61,20 @@ int main(int argc, char** argv) {
     if (features_only) {
       sc.cameras.images = false;
       sc.cameras.features = true;
+    }
+    if (!along_file.empty()) {
+      const vid::sim::PoseTrack track = vid::sim::PoseTrack::read_tum(along_file);
+      const double span_s = static_cast<double>(track.end_ns() - track.start_ns()) * 1e-9;
+      spdlog::info("vid_sim: cameras of '{}' ({}), seed {}, along {} ({} poses, {:.1f} s){}", sc.name, scenario_file,
+                   sc.seed, along_file, track.size(), span_s, sc.cameras.images ? " with images" : "");
+      vid::app::ProgressBar bar("vid_sim", span_s);
+      const std::uint64_t frames = vid::sim::write_camera_along(
+          sc, track, out_dir, overwrite, [&](std::uint64_t k, std::uint64_t n) {
+            bar.update(span_s * static_cast<double>(k) / static_cast<double>(n), std::to_string(k) + " frames");
+          });
+      bar.finish();
+      spdlog::info("vid_sim: wrote {} camera frames into {}/mav0", frames, out_dir);
+      return 0;
     }
     spdlog::info("vid_sim: scenario '{}' ({}), seed {}, {:.1f} s, {} camera(s){}", sc.name, scenario_file, sc.seed,
                  sc.duration_s, sc.cameras.cameras.size(), sc.cameras.images ? " with images" : "");
