@@ -29,12 +29,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("camalong_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+/// A fresh folder under the system temp folder, removed with its contents at scope exit.
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& name)
+      : path(fs::temp_directory_path() / ("camalong_" + name + "_" + std::to_string(::getpid()))) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
 
 std::string preset(const std::string& n) { return std::string(VID_SOURCE_DIR) + "/config/sim/" + n + ".yaml"; }
 
@@ -120,7 +127,8 @@ TEST(PoseTrack, ReproducesAStraightLineAndAConstantRateExactly) {
 }
 
 TEST(PoseTrack, CircleInterpolationMatchesThePathAndItsDerivatives) {
-  const fs::path dir = temp_dir("circle");
+  const TempDir tmp("circle");
+  const fs::path& dir = tmp.path;
   const Path circle;
   const PoseTrack track = PoseTrack::read_tum(write_tum(dir, circle, 3.0));
   ASSERT_EQ(track.size(), 301u);
@@ -156,7 +164,8 @@ TEST(PoseTrack, CircleInterpolationMatchesThePathAndItsDerivatives) {
 }
 
 TEST(PoseTrack, BadTumFilesFailWithFileAndLine) {
-  const fs::path dir = temp_dir("bad");
+  const TempDir tmp("bad");
+  const fs::path& dir = tmp.path;
   const auto expect_error = [&](const std::string& text, const std::string& where, const std::string& what) {
     const fs::path f = dir / "bad.tum";
     std::ofstream(f) << text;
@@ -189,7 +198,8 @@ TEST(PoseTrack, BadTumFilesFailWithFileAndLine) {
 
 /// Every written observation is the exact projection of its landmark at the interpolated pose.
 void expect_exact_reprojection(const Path& path, const std::string& name) {
-  const fs::path dir = temp_dir(name);
+  const TempDir tmp(name);
+  const fs::path& dir = tmp.path;
   const PoseTrack track = PoseTrack::read_tum(write_tum(dir, path, 2.0));
   const Scenario sc = features_scenario();
   const std::uint64_t frames = write_camera_along(sc, track, dir / "out", false);
@@ -233,7 +243,8 @@ TEST(CameraAlong, FeaturesReprojectExactlyAlongAStraightLine) { expect_exact_rep
 TEST(CameraAlong, FeaturesReprojectExactlyAlongACircle) { expect_exact_reprojection(Path{true}, "circ"); }
 
 TEST(CameraAlong, LeavesOtherStreamsUntouchedAndRefusesExistingCameraStreams) {
-  const fs::path dir = temp_dir("keep");
+  const TempDir tmp("keep");
+  const fs::path& dir = tmp.path;
   const PoseTrack track = PoseTrack::read_tum(write_tum(dir, Path{}, 1.0));
   const fs::path root = dir / "seq";
   fs::create_directories(root / "mav0/imu0");
@@ -283,7 +294,8 @@ int run_vid_sim(const std::string& args, std::string* err) {
 }
 
 TEST(CameraAlong, ProgramRendersImagesAndReportsErrorsInOneLine) {
-  const fs::path dir = temp_dir("cli");
+  const TempDir tmp("cli");
+  const fs::path& dir = tmp.path;
   const fs::path tum = write_tum(dir, Path{false}, 0.3);
   const std::string base = "--scenario " + preset("recorded_room") + " --quiet --out " + (dir / "seq").string();
   std::string err;
