@@ -48,6 +48,8 @@ void QuadrotorParams::validate() const {
       throw std::invalid_argument("vehicle: rotor directions must be +1 or -1");
   }
   if (!(gravity > 0.0)) throw std::invalid_argument("vehicle: gravity must be > 0");
+  if (!(std::abs(thrust_axis_I.norm() - 1.0) < 1e-9) || !(thrust_axis_I.z() > 0.0))
+    throw std::invalid_argument("vehicle: thrust_axis_I must be a unit vector with z > 0");
 }
 
 QuadrotorModel::QuadrotorModel(QuadrotorParams params) : params_(std::move(params)) {
@@ -67,7 +69,7 @@ void QuadrotorModel::thrust_and_torque(const Eigen::VectorXd& n, Eigen::Vector3d
   for (int i = 0; i < rotor_count(); ++i) {
     const RotorParams& r = params_.rotors[i];
     const double n2 = n[i] * n[i];
-    const Eigen::Vector3d f(0.0, 0.0, r.thrust_coeff * n2);
+    const Eigen::Vector3d f = params_.thrust_axis_I * (r.thrust_coeff * n2);  // z_I: bit-identical to (0, 0, T)
     *thrust_I += f;
     *torque_I += r.position_I.cross(f);
     // A rotor spinning counter-clockwise pushes the body clockwise (reaction torque).

@@ -368,6 +368,7 @@ Scenario detail::scenario_from_node(const YAML::Node& root, const std::string& n
   detail::parse_sensors(r, &s);
   s.rotor.sensor.unit = s.rotor_unit;
   s.rotor.sensor.count = static_cast<int>(s.vehicle.rotors.size());
+  detail::parse_sensor_faults(r.get_map_or_empty("sensor_faults"), &s);
   s.scene_node = r.get_raw("scene");
   s.render_node = r.get_raw("render");
   s.features_node = r.get_raw("features");
@@ -445,7 +446,9 @@ VehicleParams vehicle_params_of(const Scenario& s) {
   VehicleParams v;
   v.mass_kg = s.vehicle.mass_kg;
   v.gravity = s.vehicle.gravity;
-  for (const auto& r : s.vehicle.rotors) v.rotor_thrust_coefficients.push_back(r.thrust_coeff);
+  const double factor = s.faults.thrust_coefficient_factor;
+  for (const auto& r : s.vehicle.rotors)
+    v.rotor_thrust_coefficients.push_back(factor == 1.0 ? r.thrust_coeff : factor * r.thrust_coeff);
   return v;
 }
 

@@ -15,6 +15,8 @@ void parse_trajectory(const io::YamlMap& t, const std::filesystem::path& base_di
 void parse_forces(const io::YamlMap& f, EnvironmentConfig* e);
 void parse_mass(const io::YamlMap& m, EnvironmentConfig* e);
 void parse_sensors(const io::YamlMap& root, Scenario* s);
+/// @brief `sensor_faults:` (needs the vehicle and the IMU rate already read).
+void parse_sensor_faults(const io::YamlMap& f, Scenario* s);
 /// @brief `ground:` and `takeoff_landing:` (needs the vehicle, physics and scene already read).
 void parse_ground(const io::YamlMap& root, Scenario* s);
 /// @brief Build a Scenario from a parsed (base-merged) root mapping; name = file for messages.

@@ -30,7 +30,15 @@ void parse_vehicle(const io::YamlMap& v, Scenario* s) {
   p.rotor_speed_min = v.get_double("rotor_speed_min", 0.0);
   p.rotor_speed_max = v.get_double("rotor_speed_max", 1e5);
   p.linear_drag = v.get_vec3("linear_drag", Eigen::Vector3d::Zero());
+  // Mass-normalized rotor drag D [1/s] (drag acceleration -D v_I): linear_drag = m D.
+  const bool per_mass = v.has("rotor_drag_per_s");
+  const Eigen::Vector3d D = v.get_vec3("rotor_drag_per_s", Eigen::Vector3d::Zero());
   v.check_unknown();
+  if (per_mass) {
+    if (v.has("linear_drag")) v.fail("rotor_drag_per_s", "give either linear_drag [N/(m/s)] or rotor_drag_per_s [1/s], not both");
+    if (D.minCoeff() < 0.0) v.fail("rotor_drag_per_s", "must be >= 0");
+    p.linear_drag = p.mass_kg * D;
+  }
   if (s->rotor_unit != "rpm" && s->rotor_unit != "rad/s") v.fail("rotor_speed_unit", "expected rpm or rad/s");
   if (!(p.mass_kg > 0.0)) v.fail("mass_kg", "must be > 0");
   if (!(p.gravity > 0.0)) v.fail("gravity", "must be > 0");

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "sim/sensor_faults.h"
 #include "sim/sensors.h"
 
 namespace vid::sim {
@@ -31,7 +32,8 @@ class Schedule {
 };
 
 constexpr std::uint64_t kImuStream = 1, kRotorStream = 2, kEnvStream = 3, kHeadingStream = 4,
-                        kCameraClockStream = 6;
+                        kCameraClockStream = 6, kVibrationStream = 7, kImuStampStream = 8,
+                        kRotorTelemetryStream = 9, kRotorDipStream = 10;
 
 /// @brief Yaw of R_WI [rad] (heading of the body x-axis about z).
 double yaw_of(const Eigen::Quaterniond& q_WI) {
@@ -43,11 +45,14 @@ double yaw_of(const Eigen::Quaterniond& q_WI) {
 
 Simulator::Simulator(const Scenario& scenario) : scenario_(scenario) {
   const TakeoffLandingConfig& tl = scenario_.takeoff_landing;
-  if (tl.enabled) {
-    // The controller keeps idle as its lower bound while armed; the motors themselves can stop.
+  const bool tilted = scenario_.faults.thrust_tilt_deg != 0.0;
+  if (tl.enabled || tilted) {
+    // The controller keeps idle as its lower bound while armed (the motors themselves can
+    // stop), and it knows the nominal vehicle: thrust along z_I.
     armed_model_ = std::make_unique<dynamics::QuadrotorModel>(scenario_.vehicle);
     dynamics::QuadrotorParams physics = scenario_.vehicle;
-    physics.rotor_speed_min = 0.0;
+    if (tl.enabled) physics.rotor_speed_min = 0.0;
+    physics.thrust_axis_I = scenario_.faults.thrust_axis_I();
     model_ = std::make_unique<dynamics::QuadrotorModel>(physics);
   } else {
     model_ = std::make_unique<dynamics::QuadrotorModel>(scenario_.vehicle);
@@ -157,6 +162,23 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
   // Camera clock: stamp = IMU-clock time of the image - (offset + jitter).
   const bool camera_offset = sc.cameras.time_offset_s != 0.0 || sc.cameras.time_offset_jitter_s > 0.0;
   Rng camera_clock(derive_seed(sc.seed, kCameraClockStream));
+  // Real-sensor effects (off unless configured: then nothing below draws a random number).
+  const SensorFaultsConfig& faults = sc.faults;
+  std::optional<VibrationModel> vibration;
+  if (faults.vibration.enabled && sc.noise) {
+    double k_sum = 0.0;
+    for (const auto& r : sc.vehicle.rotors) k_sum += r.thrust_coeff;
+    const double hover_speed = std::sqrt(sc.vehicle.mass_kg * sc.vehicle.gravity / k_sum);
+    vibration.emplace(faults.vibration, sc.rotor_unit, hover_speed, sc.imu.noise.rate_hz, model_->rotor_count(),
+                      derive_seed(sc.seed, kVibrationStream));
+  }
+  std::optional<ImuStampJitter> imu_stamps;
+  if (faults.imu_jitter() && sc.noise)
+    imu_stamps.emplace(faults.imu_jitter_s, faults.imu_max_jitter_s, sc.imu.noise.rate_hz,
+                       derive_seed(sc.seed, kImuStampStream));
+  std::optional<RotorTelemetry> telemetry;
+  if (faults.rotor_telemetry()) telemetry.emplace(faults, sc.noise, derive_seed(sc.seed, kRotorTelemetryStream));
+  const RotorDips dips(faults, model_->rotor_count(), sc.duration_s, derive_seed(sc.seed, kRotorDipStream));
 
   dynamics::QuadrotorState x = initial_state();
   const bool ground = environment_->ground() != nullptr;
@@ -174,10 +196,17 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
 
     // Samples at this exact physics time, all from the same state.
     if (imu_s.due(t)) {
-      sink.on_imu(imu.measure(t, x.w_I, R_WI.transpose() * (f.accel_W - g_W)));
+      ImuSample s = imu.measure(t, x.w_I, R_WI.transpose() * (f.accel_W - g_W));
+      if (vibration) vibration->apply(ts, x.rotor_speeds, &s);
+      if (imu_stamps) s.t_ns = imu_stamps->stamp(t);
+      sink.on_imu(s);
     }
     if (rotor_s.due(t)) {
-      sink.on_rotor(rotor.measure(t, x.rotor_speeds));
+      if (telemetry) {
+        if (auto received = telemetry->receive(rotor.measure(t, x.rotor_speeds))) sink.on_rotor(*received);
+      } else {
+        sink.on_rotor(rotor.measure(t, x.rotor_speeds));
+      }
       rotor_s.advance();
     }
     if (gt_s.due(t)) {
@@ -243,7 +272,7 @@ void Simulator::run(SimSink& sink, const std::function<void(double, double)>& pr
     TimeNs t_next = std::min({t + max_step, t_end, imu_s.next(), rotor_s.next(), gt_s.next(), cam_s.next(),
                               ctrl_s.next()});
     const double h = static_cast<double>(t_next - t) * 1e-9;
-    x = model_->rk4_step(ts, h, x, n_cmd, *environment_);
+    x = model_->rk4_step(ts, h, x, dips.empty() ? n_cmd : dips.apply(ts, n_cmd), *environment_);
     if (ground) environment_->commit_step(x);
     if (pilot && pilot->disarmed()) {
       // A disarmed motor runs down and stops (the first-order lag alone would never reach 0).

@@ -31,6 +31,10 @@ struct Recording : SimSink {
   void on_phase(const PhaseSample& s) override { phase.push_back(s); }
 };
 
+/// @brief The vid17_like vehicle hovering at 1.2 m (no rope, no camera), IMU at @p imu_rate_hz
+/// with zero white noise and biases, plus @p extra YAML appended at the top level.
+Scenario hover_scenario(const std::string& extra, double duration_s, double imu_rate_hz = 400.0);
+
 /// @brief Run a scenario without cameras and return what it produced.
 Recording record(Scenario sc);
 

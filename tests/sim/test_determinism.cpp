@@ -137,6 +137,27 @@ double wrap_deg(double a) { return std::remainder(a, 360.0); }
 // sensor streams stay byte-identical, the first ground-truth heading is the requested one,
 // positions, force and landmarks keep their norms in the horizontal plane (rotated, not moved),
 // and 'random' is drawn from the seed.
+TEST(VidSim, RealSensorPresetIsDeterministicAndShowsItsFaults) {
+  // Every random stream of sensor_faults derives from the seed: same seed, same folder.
+  const fs::path base = fs::temp_directory_path() / ("vid_sim_det_faults_" + std::to_string(::getpid()));
+  fs::remove_all(base);
+  const std::string common = "--scenario " + preset("vid17_real_sensors_short") + " --duration 3 --features-only";
+  ASSERT_EQ(run(common + " --out " + (base / "a").string()), 0);
+  ASSERT_EQ(run(common + " --out " + (base / "b").string()), 0);
+  const auto a = read_tree(base / "a"), b = read_tree(base / "b");
+  ASSERT_EQ(a.size(), b.size());
+  for (const auto& [name, content] : a) EXPECT_TRUE(content == b.at(name)) << name;
+  // Lost rotor messages: fewer rows than 3 s at 100 Hz; the stamps 30 ms late.
+  const std::string& rotor = a.at("mav0/rotor0/data.csv");
+  EXPECT_LT(std::count(rotor.begin(), rotor.end(), '\n'), 1 + 300);
+  const vid::sim::Scenario sc = vid::sim::load_scenario(preset("vid17_real_sensors_short"));
+  const std::string first = rotor.substr(rotor.find('\n') + 1, rotor.find(',', rotor.find('\n')) - rotor.find('\n') - 1);
+  const long long late_ns = std::stoll(first) - sc.start_time_ns;  // a true sample time + 30 ms
+  EXPECT_GE(late_ns, 30'000'000);
+  EXPECT_EQ((late_ns - 30'000'000) % 10'000'000, 0);
+  fs::remove_all(base);
+}
+
 TEST(VidSim, InitialHeadingRotatesTheGroundTruthWorldOnly) {
   const fs::path base = fs::temp_directory_path() / ("vid_sim_heading_" + std::to_string(::getpid()));
   fs::remove_all(base);

@@ -33,6 +33,9 @@ struct QuadrotorParams {
   /// Linear rotor drag: F_drag_I = -diag(linear_drag) * v_I [N / (m/s)] (zero = off).
   Eigen::Vector3d linear_drag = Eigen::Vector3d::Zero();
   double gravity = 9.81;                ///< magnitude; g_W = [0, 0, -gravity]
+  /// Unit direction of every rotor's thrust in I (a real thrust axis sits 1-2 deg off the
+  /// IMU's z; the simulator's `sensor_faults.thrust_axis`). Default z_I.
+  Eigen::Vector3d thrust_axis_I = Eigen::Vector3d::UnitZ();
 
   /// @brief Symmetric "x" or "+" layout with `count` rotors at `arm_length` and alternating
   /// directions (rotor 0 counter-clockwise), per-rotor k_i and torque/thrust ratio.
@@ -81,7 +84,7 @@ class Environment {
 
 /// @brief Forces acting at one instant (for sensors, ground truth and checks).
 struct ForceBreakdown {
-  Eigen::Vector3d thrust_I = Eigen::Vector3d::Zero();   ///< sum_i T_i z_I [N]
+  Eigen::Vector3d thrust_I = Eigen::Vector3d::Zero();   ///< sum_i T_i thrust_axis_I [N]
   Eigen::Vector3d torque_I = Eigen::Vector3d::Zero();   ///< rotor torques [N m]
   Eigen::Vector3d drag_W = Eigen::Vector3d::Zero();     ///< linear rotor drag [N]
   Eigen::Vector3d env_W = Eigen::Vector3d::Zero();      ///< Environment::force_W [N]
@@ -101,7 +104,7 @@ class QuadrotorModel {
 
   /// @brief Per-rotor thrust T_i = k_i n_i^2 [N].
   Eigen::VectorXd rotor_thrusts(const Eigen::VectorXd& n) const;
-  /// @brief Sum of thrusts along z_I and the rotor torque in I.
+  /// @brief Sum of thrusts (along thrust_axis_I) and the rotor torque in I.
   void thrust_and_torque(const Eigen::VectorXd& n, Eigen::Vector3d* thrust_I,
                          Eigen::Vector3d* torque_I) const;
   /// @brief Clamp rotor speeds to [min, max].

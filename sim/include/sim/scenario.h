@@ -16,6 +16,7 @@
 #include "dynamics/quadrotor.h"
 #include "sim/controller.h"
 #include "sim/environment.h"
+#include "sim/sensor_faults.h"
 #include "sim/takeoff_landing.h"
 #include "sim/trajectory.h"
 #include "vio_core/calibration.h"
@@ -76,6 +77,9 @@ struct Scenario {
   std::optional<double> initial_heading_deg;
   bool initial_heading_random = false;  ///< draw initial_heading_deg from the seed
   CamerasConfig cameras;
+  /// Real-sensor effects (`sensor_faults:`); all off by default. The thrust-axis tilt acts in
+  /// the physics only: `vehicle` stays the nominal vehicle the controller knows.
+  SensorFaultsConfig faults;
 
   YAML::Node scene_node;     ///< raw `scene:` section (may be null)
   YAML::Node render_node;    ///< raw `render:` section (may be null)
@@ -95,7 +99,8 @@ Scenario load_scenario_string(const std::string& text, const std::string& name);
 void apply_run_options(Scenario& s, std::optional<std::uint64_t> seed, std::optional<double> duration_s,
                        const std::string& heading);
 
-/// @brief Vehicle parameters for vehicle.yaml (mass, gravity, k_i).
+/// @brief Vehicle parameters for vehicle.yaml (mass, gravity, k_i): the simulated k_i times
+/// `sensor_faults.thrust_coefficient_factor` (1 unless set).
 VehicleParams vehicle_params_of(const Scenario& s);
 
 }  // namespace vid::sim

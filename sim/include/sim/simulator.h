@@ -89,7 +89,7 @@ class Simulator {
 
   const Scenario& scenario() const { return scenario_; }
   /// @brief The vehicle as integrated (with `takeoff_landing:` its rotor_speed_min is 0: a
-  /// disarmed rotor stops).
+  /// disarmed rotor stops; with `sensor_faults.thrust_axis` its thrust axis is tilted).
   const dynamics::QuadrotorModel& model() const { return *model_; }
   const Trajectory& trajectory() const { return *trajectory_; }
   /// @brief The environment; with `ground:` its friction anchors are those of t = 0 before
@@ -121,7 +121,9 @@ class Simulator {
   const dynamics::QuadrotorModel& control_model() const { return armed_model_ ? *armed_model_ : *model_; }
 
   std::unique_ptr<dynamics::QuadrotorModel> model_;
-  std::unique_ptr<dynamics::QuadrotorModel> armed_model_;  ///< controller's view (idle minimum), takeoff_landing only
+  /// The controller's view of the vehicle (idle minimum, nominal thrust axis); only with
+  /// takeoff_landing or a thrust-axis tilt.
+  std::unique_ptr<dynamics::QuadrotorModel> armed_model_;
   std::unique_ptr<Trajectory> trajectory_;
   std::optional<TakeoffLandingPlan> plan_;
   std::optional<dynamics::QuadrotorState> settled_state_;
