@@ -1,0 +1,53 @@
+"""Smoothed position and its first two derivatives from motion-capture samples.
+
+The samples are resampled to a uniform grid at their median interval (mocap logs drop frames),
+low-passed with a zero-phase Butterworth filter (scipy ``butter`` + ``sosfiltfilt``: forward and
+backward, so no delay, which a force truth compared sample by sample must not have), and
+differentiated with second-order central differences (``numpy.gradient``); the results are
+interpolated back to the original times. Differentiating twice multiplies white position
+noise by (2 pi f)^2: the cutoff sets how much of that passes (docs/own-vehicle.md,
+"Importing a log that is not a bag").
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.signal import butter, sosfiltfilt
+
+from .errors import DataError
+
+FILTER_ORDER = 4  # per pass; sosfiltfilt's two passes give a -6 dB point at the cutoff
+
+
+@dataclass
+class Derivatives:
+    p: np.ndarray  # (N, 3) smoothed position
+    v: np.ndarray  # (N, 3) velocity
+    a: np.ndarray  # (N, 3) acceleration
+
+
+def lowpass(x: np.ndarray, rate_hz: float, cutoff_hz: float) -> np.ndarray:
+    """Zero-phase Butterworth low-pass of the columns of ``x`` (uniformly sampled at
+    ``rate_hz``); ``cutoff_hz <= 0`` or at/above Nyquist returns ``x`` unchanged."""
+    if cutoff_hz <= 0 or cutoff_hz >= 0.5 * rate_hz:
+        return np.asarray(x, dtype=float)
+    sos = butter(FILTER_ORDER, cutoff_hz, fs=rate_hz, output="sos")
+    padlen = min(x.shape[0] - 1, 3 * (2 * len(sos) + 1) * 4)
+    return sosfiltfilt(sos, x, axis=0, padlen=padlen)
+
+
+def derivatives(t_ns: np.ndarray, p: np.ndarray, cutoff_hz: float) -> Derivatives:
+    """Smoothed p, v = dp/dt, a = d2p/dt2 at the times ``t_ns`` (see the module docstring)."""
+    if t_ns.size < 5:
+        raise DataError(f"{t_ns.size} motion-capture samples: too few to differentiate")
+    t = (t_ns - t_ns[0]).astype(np.float64) * 1e-9
+    dt = float(np.median(np.diff(t)))
+    n = int(round(t[-1] / dt)) + 1
+    grid = np.arange(n) * dt
+    uniform = np.stack([np.interp(grid, t, p[:, j]) for j in range(3)], axis=1)
+    ps = lowpass(uniform, 1.0 / dt, cutoff_hz)
+    v = np.gradient(ps, dt, axis=0, edge_order=2)
+    a = np.gradient(v, dt, axis=0, edge_order=2)
+    back = lambda x: np.stack([np.interp(t, grid, x[:, j]) for j in range(3)], axis=1)  # noqa: E731
+    return Derivatives(back(ps), back(v), back(a))
