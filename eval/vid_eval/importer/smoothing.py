@@ -37,17 +37,34 @@ def lowpass(x: np.ndarray, rate_hz: float, cutoff_hz: float) -> np.ndarray:
     return sosfiltfilt(sos, x, axis=0, padlen=padlen)
 
 
+class _Grid:
+    """A uniform grid over sample times (their median interval) and the way back."""
+
+    def __init__(self, t_ns: np.ndarray):
+        if t_ns.size < 5:
+            raise DataError(f"{t_ns.size} samples: too few to filter or differentiate")
+        self.t = (t_ns - t_ns[0]).astype(np.float64) * 1e-9
+        self.dt = float(np.median(np.diff(self.t)))
+        self.grid = np.arange(int(round(self.t[-1] / self.dt)) + 1) * self.dt
+
+    def to_grid(self, x: np.ndarray) -> np.ndarray:
+        return np.stack([np.interp(self.grid, self.t, x[:, j]) for j in range(x.shape[1])], axis=1)
+
+    def back(self, x: np.ndarray) -> np.ndarray:
+        return np.stack([np.interp(self.t, self.grid, x[:, j]) for j in range(x.shape[1])], axis=1)
+
+
+def smooth(t_ns: np.ndarray, x: np.ndarray, cutoff_hz: float) -> np.ndarray:
+    """The columns of ``x`` (sampled at ``t_ns``) low-passed as the position is in
+    :func:`derivatives`, so that both sides of a difference see the same filter."""
+    g = _Grid(t_ns)
+    return g.back(lowpass(g.to_grid(x), 1.0 / g.dt, cutoff_hz))
+
+
 def derivatives(t_ns: np.ndarray, p: np.ndarray, cutoff_hz: float) -> Derivatives:
     """Smoothed p, v = dp/dt, a = d2p/dt2 at the times ``t_ns`` (see the module docstring)."""
-    if t_ns.size < 5:
-        raise DataError(f"{t_ns.size} motion-capture samples: too few to differentiate")
-    t = (t_ns - t_ns[0]).astype(np.float64) * 1e-9
-    dt = float(np.median(np.diff(t)))
-    n = int(round(t[-1] / dt)) + 1
-    grid = np.arange(n) * dt
-    uniform = np.stack([np.interp(grid, t, p[:, j]) for j in range(3)], axis=1)
-    ps = lowpass(uniform, 1.0 / dt, cutoff_hz)
-    v = np.gradient(ps, dt, axis=0, edge_order=2)
-    a = np.gradient(v, dt, axis=0, edge_order=2)
-    back = lambda x: np.stack([np.interp(t, grid, x[:, j]) for j in range(3)], axis=1)  # noqa: E731
-    return Derivatives(back(ps), back(v), back(a))
+    g = _Grid(t_ns)
+    ps = lowpass(g.to_grid(p), 1.0 / g.dt, cutoff_hz)
+    v = np.gradient(ps, g.dt, axis=0, edge_order=2)
+    a = np.gradient(v, g.dt, axis=0, edge_order=2)
+    return Derivatives(g.back(ps), g.back(v), g.back(a))
