@@ -114,7 +114,7 @@ def run(args: argparse.Namespace) -> int:
         if log.t_gt is None:
             raise MapError("--synthetic-features needs the mocap poses (a 'mocap' stream in the map)")
         scene = Path(args.scene) if args.scene else DEFAULT_SCENE
-        moved = synthesize(mav0, log.t_gt, log.p_WI, log.q_WI_wxyz, vid_sim, scene)
+        moved = synthesize(out, log.t_gt, log.p_WI, log.q_WI_wxyz, vid_sim, scene)
         print(f"synthetic features: {vid_sim} --camera-along (scene {scene}) wrote {', '.join(moved)}")
     print(f"wrote {out}")
     return 0

@@ -1,8 +1,8 @@
 """``--synthetic-features``: stereo feature tracks along the recorded flight, for logs without
 cameras. The project's feature simulator does the work (``vid_sim --camera-along TRAJ.tum
 --scenario SCENE --out DIR --features-only``, which writes only the camera streams along a
-recorded trajectory); here the converted mocap poses become the TUM file it reads (T_WI, IMU
-pose in W, seconds) and its camera files are moved into the dataset folder.
+recorded trajectory into OUT/mav0, other files untouched); here the converted mocap poses
+become the TUM file it reads (T_WI, IMU pose in W, seconds).
 """
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ import numpy as np
 
 from .errors import DataError, MapError
 
-#: The files of the camera streams that are taken from vid_sim's output folder.
+#: The camera streams vid_sim --camera-along writes under OUT/mav0.
 CAMERA_ITEMS = ("feat0", "cam0", "cam1", "landmarks.csv")
 DEFAULT_SCENE = Path(__file__).resolve().parents[3] / "config" / "sim" / "recorded_room.yaml"
 
@@ -48,33 +48,23 @@ def write_tum(path: Path, t_ns: np.ndarray, p_WI: np.ndarray, q_WI_wxyz: np.ndar
             f.write(f"{sec}.{ns:09d} {p[0]!r} {p[1]!r} {p[2]!r} {q[1]!r} {q[2]!r} {q[3]!r} {q[0]!r}\n")
 
 
-def synthesize(mav0: Path, t_ns: np.ndarray, p_WI: np.ndarray, q_WI_wxyz: np.ndarray,
-               vid_sim: Path, scene: Path, log=print) -> List[str]:
-    """Run vid_sim along the poses; move its camera streams into ``mav0``. Returns what moved."""
+def synthesize(out: Path, t_ns: np.ndarray, p_WI: np.ndarray, q_WI_wxyz: np.ndarray,
+               vid_sim: Path, scene: Path) -> List[str]:
+    """Run vid_sim along the poses; it writes the camera streams into ``out/mav0`` and leaves the
+    other files alone. Returns the camera items found afterwards."""
     if not scene.is_file():
-        raise MapError(f"--scene {scene}: no such scene file (a vid_sim scenario whose scene: and cameras: "
-                       "are used)")
+        raise MapError(f"--scene {scene}: no such scene file (a vid_sim scenario whose cameras:, scene:, "
+                       "render: and features: are used)")
     with tempfile.TemporaryDirectory(prefix="vid_import_") as tmp:
         tum = Path(tmp) / "trajectory_tum.txt"
         write_tum(tum, t_ns, p_WI, q_WI_wxyz)
-        out = Path(tmp) / "sim"
         cmd = [str(vid_sim), "--camera-along", str(tum), "--scenario", str(scene), "--out", str(out),
-               "--features-only"]
+               "--features-only", "--quiet"]
         r = subprocess.run(cmd, capture_output=True, text=True)
-        if r.returncode != 0:
-            last = (r.stderr.strip().splitlines() or ["(no message)"])[-1]
-            raise DataError(f"{vid_sim} --camera-along failed (exit {r.returncode}): {last}")
-        src = out / "mav0" if (out / "mav0").is_dir() else out
-        moved = []
-        for item in CAMERA_ITEMS:
-            if (src / item).exists():
-                dest = mav0 / item
-                if dest.is_dir():
-                    shutil.rmtree(dest)
-                elif dest.exists():
-                    dest.unlink()
-                shutil.move(str(src / item), str(dest))
-                moved.append(item)
-        if "feat0" not in moved:
-            raise DataError(f"{vid_sim} --camera-along wrote no feat0/ into {out}")
-        return moved
+    if r.returncode != 0:
+        last = (r.stderr.strip().splitlines() or ["(no message)"])[-1]
+        raise DataError(f"{vid_sim} --camera-along failed (exit {r.returncode}): {last}")
+    found = [item for item in CAMERA_ITEMS if (out / "mav0" / item).exists()]
+    if "feat0" not in found:
+        raise DataError(f"{vid_sim} --camera-along wrote no {out / 'mav0' / 'feat0'}")
+    return found
