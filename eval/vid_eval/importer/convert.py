@@ -10,7 +10,7 @@ import numpy as np
 
 from ..geometry import wxyz_from_rot
 from .errors import DataError
-from .frames import check_up, imu_vectors, mocap_orientation, quat_to_xyzw, world_vectors
+from .frames import check_up, check_world, imu_vectors, mocap_orientation, quat_to_xyzw, world_vectors
 from .pieces import Stream, find_pieces, gaps, read_joined
 from .smoothing import derivatives
 from .sourcemap import SourceMap
@@ -58,8 +58,9 @@ def _thrust(s: Stream, unit: str, opts: Options, accel_flu: np.ndarray, lines: L
     return thrust_n
 
 
-def _mocap(s: Stream, opts: Options, lines: List[str], order: str):
+def _mocap(s: Stream, opts: Options, lines: List[str], order: str, t_imu: np.ndarray, accel: np.ndarray):
     R_WI = mocap_orientation(quat_to_xyzw(s.values["quaternion"], order), opts.imu_frame, opts.world_frame)
+    angle = check_world(t_imu, accel, s.t_ns, R_WI, opts.world_frame)
     q = wxyz_from_rot(R_WI)
     p = world_vectors(s.values["position"], opts.world_frame)
     if "velocity" in s.values:
@@ -69,7 +70,8 @@ def _mocap(s: Stream, opts: Options, lines: List[str], order: str):
         v = derivatives(s.t_ns, p, opts.velocity_cutoff_hz).v
         how = (f"differentiated from the position (zero-phase Butterworth low-pass at "
                f"{opts.velocity_cutoff_hz:g} Hz)")
-    lines.append(f"ground truth: quaternion order {order}, velocity {how}; biases 0 (unknown to mocap)")
+    lines.append(f"ground truth: quaternion order {order}, velocity {how}; biases 0 (unknown to mocap); the "
+                 f"accelerometer rotated into W averages {angle:.1f} deg from +z")
     return p, q, v
 
 
@@ -124,5 +126,5 @@ def convert(smap: SourceMap, root: Path, opts: Options) -> Tuple[Imported, List[
         _overlap(imu.t_ns, s.t_ns, "mocap")
         lines.append(describe("state_groundtruth_estimate0", s, "poses"))
         log.t_gt = s.t_ns
-        log.p_WI, log.q_WI_wxyz, log.v_WI = _mocap(s, opts, lines, spec.options["quaternion_order"])
+        log.p_WI, log.q_WI_wxyz, log.v_WI = _mocap(s, opts, lines, spec.options["quaternion_order"], imu.t_ns, accel)
     return log, lines

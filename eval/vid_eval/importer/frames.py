@@ -83,3 +83,21 @@ def check_up(accel_flu: np.ndarray, thrust_z: Optional[np.ndarray], imu_frame: s
     if a_z < 0.0:
         raise DataError(f"the accelerometer points down: median z {a_z:.3g} m/s^2 after --imu-frame {imu_frame} "
                         f"(a vehicle at rest or flying measures about +9.8): pass {fix}")
+
+
+def check_world(t_imu_ns: np.ndarray, accel_flu: np.ndarray, t_gt_ns: np.ndarray, R_WI: Rotation,
+                world_frame: str) -> float:
+    """The IMU's specific force rotated into W by the mocap orientation must average to about
+    +g z (over a flight the mean acceleration is ~0). Returns the angle [deg] between that mean
+    and +z; a mean pointing down is one line naming the flags that fix it."""
+    idx = np.clip(np.searchsorted(t_imu_ns, t_gt_ns), 0, t_imu_ns.size - 1)
+    inside = (t_gt_ns >= t_imu_ns[0]) & (t_gt_ns <= t_imu_ns[-1])
+    mean = R_WI[inside].apply(accel_flu[idx[inside]]).mean(axis=0)
+    angle = float(np.degrees(np.arccos(np.clip(mean[2] / np.linalg.norm(mean), -1.0, 1.0))))
+    if mean[2] < 0.0:
+        other = "enu" if world_frame == "ned" else "ned"
+        raise DataError(f"gravity points up in the mocap world: the accelerometer rotated by the mocap orientation "
+                        f"averages [{mean[0]:.3g}, {mean[1]:.3g}, {mean[2]:.3g}] m/s^2 after --world-frame "
+                        f"{world_frame} (expected about +9.8 along z): the mocap world is not {world_frame.upper()} "
+                        f"(pass --world-frame {other}), or the mocap body is not the IMU's frame")
+    return angle
