@@ -29,8 +29,8 @@ class Derivatives:
 
 def lowpass(x: np.ndarray, rate_hz: float, cutoff_hz: float) -> np.ndarray:
     """Zero-phase Butterworth low-pass of the columns of ``x`` (uniformly sampled at
-    ``rate_hz``); ``cutoff_hz <= 0`` or at/above Nyquist returns ``x`` unchanged."""
-    if cutoff_hz <= 0 or cutoff_hz >= 0.5 * rate_hz:
+    ``rate_hz``); ``cutoff_hz <= 0`` or at (within 0.2 %) or above Nyquist returns ``x`` unchanged."""
+    if cutoff_hz <= 0 or cutoff_hz >= 0.499 * rate_hz:
         return np.asarray(x, dtype=float)
     sos = butter(FILTER_ORDER, cutoff_hz, fs=rate_hz, output="sos")
     padlen = min(x.shape[0] - 1, 3 * (2 * len(sos) + 1) * 4)

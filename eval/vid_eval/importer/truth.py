@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Dict, List, Optional
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from ..bag2asl.extract import FORCE_HEADER, THRUST_HEADER
 from ..errors import InputFormatError
@@ -99,10 +100,11 @@ class TruthReport:
         }
 
 
-def _thrust_lag(f: Folder, gt_offset_s: float, max_lag_s: float):
-    """Thrust stamps - IMU stamps from a_z ~ s T/m + b - D_z v_z (body drag as a regressor)."""
+def _thrust_lag(f: Folder, gt_offset_s: float, R_IM: Rotation, max_lag_s: float):
+    """Thrust stamps - IMU stamps from a_z ~ s T/m + b - D_z v_z (body drag as a regressor; v_I
+    from the mocap velocity, rotated into the IMU frame with R_IM unless already applied)."""
     R = rot_from_wxyz(f.q_WI)
-    v_I = R.inv().apply(f.v_W)
+    v_I = R_IM.apply(R.inv().apply(f.v_W))
     t_q = (f.t_imu - f.t_gt[0]).astype(float) + gt_offset_s * 1e9
     v_z = np.interp(t_q, (f.t_gt - f.t_gt[0]).astype(float), v_I[:, 2])
     t_n = f.thrust_n / f.mass_kg
@@ -124,14 +126,14 @@ def mocap_truth(folder: Path, cutoff_hz: float = FORCE_CUTOFF_HZ, max_lag_s: flo
         raise InputFormatError(f.mav0 / "rotor0", "--apply-thrust-lag rewrites thrust0 only (this folder has rotor0)")
     gyro = gyro_mocap_sync(f.t_imu, f.gyro, f.t_gt, f.q_WI, max_lag_s)
     applied = []
-    gt_offset = gyro.lag.offset_s
+    gt_offset, R_IM = gyro.lag.offset_s, gyro.R_IM
     if apply_sync:
         f.t_gt = f.t_gt - int(round(gyro.lag.offset_s * 1e9))
         f.q_WI = wxyz_from_rot(rot_from_wxyz(f.q_WI) * gyro.R_IM.inv())  # R_WI = R_WM R_MI
         write_gt(f.mav0, f.t_gt, f.p_W, f.q_WI, f.v_W)
         applied.append(f"{GT}: stamps - {gyro.lag.offset_s * 1e3:.3f} ms, orientation R_WM R_IM^T")
-        gt_offset = 0.0
-    thrust, plain, scale, drag_z = _thrust_lag(f, gt_offset, max_lag_s)
+        gt_offset, R_IM = 0.0, Rotation.identity()
+    thrust, plain, scale, drag_z = _thrust_lag(f, gt_offset, R_IM, max_lag_s)
     if apply_thrust_lag:
         f.t_thrust = f.t_thrust - int(round(thrust.offset_s * 1e9))
         write_csv(f.mav0 / "thrust0" / "data.csv", THRUST_HEADER, f.t_thrust, f.thrust_n)
