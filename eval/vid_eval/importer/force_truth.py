@@ -54,6 +54,7 @@ class DragFit:
     D: np.ndarray            # (3,) 1/s, F_I / m = -D v_I
     rms: np.ndarray          # (3,) RMS of F_I / m, m/s^2
     explained: np.ndarray    # (3,) 1 - residual^2 / F^2 (share of the force's power)
+    explained_all: float     # the same over the three axes together
 
 
 def drag_fit(F_I_per_m: np.ndarray, v_I: np.ndarray) -> DragFit:
@@ -63,4 +64,5 @@ def drag_fit(F_I_per_m: np.ndarray, v_I: np.ndarray) -> DragFit:
     r = F_I_per_m + D * v_I
     power = np.sum(F_I_per_m ** 2, axis=0)
     return DragFit(D, np.sqrt(np.mean(F_I_per_m ** 2, axis=0)),
-                   1.0 - np.sum(r ** 2, axis=0) / np.where(power > 0, power, 1.0))
+                   1.0 - np.sum(r ** 2, axis=0) / np.where(power > 0, power, 1.0),
+                   float(1.0 - np.sum(r ** 2) / max(np.sum(power), 1e-300)))

@@ -96,7 +96,8 @@ class TruthReport:
             "thrust_minus_imu_plain_correlation_s": self.thrust_plain.offset_s,
             "force_samples": int(self.force.t_ns.size),
             "body_force_rms_m_s2": self.drag.rms.tolist(), "linear_drag_D": self.drag.D.tolist(),
-            "linear_drag_explained": self.drag.explained.tolist(), "applied": self.applied,
+            "linear_drag_explained": self.drag.explained.tolist(),
+            "linear_drag_explained_all": self.drag.explained_all, "applied": self.applied,
         }
 
 
@@ -131,13 +132,13 @@ def mocap_truth(folder: Path, cutoff_hz: float = FORCE_CUTOFF_HZ, max_lag_s: flo
         f.t_gt = f.t_gt - int(round(gyro.lag.offset_s * 1e9))
         f.q_WI = wxyz_from_rot(rot_from_wxyz(f.q_WI) * gyro.R_IM.inv())  # R_WI = R_WM R_MI
         write_gt(f.mav0, f.t_gt, f.p_W, f.q_WI, f.v_W)
-        applied.append(f"{GT}: stamps - {gyro.lag.offset_s * 1e3:.3f} ms, orientation R_WM R_IM^T")
+        applied.append(f"{GT}: stamps {-gyro.lag.offset_s * 1e3:+.3f} ms, orientation R_WI = R_WM R_IM^T")
         gt_offset, R_IM = 0.0, Rotation.identity()
     thrust, plain, scale, drag_z = _thrust_lag(f, gt_offset, R_IM, max_lag_s)
     if apply_thrust_lag:
         f.t_thrust = f.t_thrust - int(round(thrust.offset_s * 1e9))
         write_csv(f.mav0 / "thrust0" / "data.csv", THRUST_HEADER, f.t_thrust, f.thrust_n)
-        applied.append(f"thrust0: stamps - {thrust.offset_s * 1e3:.3f} ms")
+        applied.append(f"thrust0: stamps {-thrust.offset_s * 1e3:+.3f} ms")
     ft = force_truth(f.t_gt, f.p_W, f.q_WI, f.t_thrust, f.thrust_n, f.mass_kg, f.gravity, cutoff_hz)
     out = force_out or (f.mav0 / "force0" / "data.csv")
     write_csv(out, FORCE_HEADER, ft.t_ns, ft.F_W)
@@ -160,5 +161,5 @@ def report_lines(r: TruthReport, cutoff_hz: float) -> List[str]:
         f"x/y/z {r.drag.rms[0]:.3f} / {r.drag.rms[1]:.3f} / {r.drag.rms[2]:.3f} m/s^2",
         f"linear drag F_I/m = -D v_I: D x/y/z {r.drag.D[0]:.3f} / {r.drag.D[1]:.3f} / {r.drag.D[2]:.3f} 1/s, "
         f"explaining {100 * r.drag.explained[0]:.0f} / {100 * r.drag.explained[1]:.0f} / "
-        f"{100 * r.drag.explained[2]:.0f} % of the force's power",
+        f"{100 * r.drag.explained[2]:.0f} % of the force's power ({100 * r.drag.explained_all:.0f} % of all axes together)",
     ]
