@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from conftest import REPO
 from test_import_synth import G, MASS, T0_NS, _attitude, flight, run_eval
 from vid_eval.importer.force_truth import force_truth
 from vid_eval.importer.sync import gyro_mocap_sync, lag
@@ -148,3 +149,37 @@ def test_missing_stream_names_the_file(tmp_path, missing):
     r = run_eval("mocap-truth", seq)
     assert r.returncode == 1 and len(r.stderr.strip().splitlines()) == 1
     assert ("thrust0/ or rotor0/" if missing == "thrust0" else missing) in r.stderr
+
+
+def test_stand_in_of_a_simulated_flight_round_trips_and_gives_its_force(tmp_path, cpp_program):
+    """A vid_sim flight written as a foreign log (FRD IMU, NED mocap without velocity, thrust from
+    the rotor speeds; python -m vid_eval.importer.standin), imported: the IMU and pose equal the
+    simulator's; mocap-truth's force0 is within 1 % (RMS) of the simulator's force0."""
+    from test_import_synth import run_import
+    from vid_eval.importer.standin import write_standin
+    from vid_eval.loaders import load_imu
+
+    sim = tmp_path / "sim"
+    r = subprocess.run([str(cpp_program("vid_sim")), "--scenario", str(REPO / "config/sim/vid17_like_short.yaml"),
+                        "--out", str(sim), "--features-only", "--duration", "8", "--quiet"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    write_standin(sim, tmp_path / "log")
+    r = run_import(tmp_path / "log", tmp_path / "out", "--map", tmp_path / "log" / "source_map.yaml", "--mass", "3.1015",
+                   "--imu-frame", "frd", "--world-frame", "ned")
+    assert r.returncode == 0, r.stderr
+    a, b = load_imu(sim / "mav0/imu0/data.csv"), load_imu(tmp_path / "out/mav0/imu0/data.csv")
+    np.testing.assert_array_equal(a.t_ns, b.t_ns)
+    np.testing.assert_array_equal(a.gyro, b.gyro)
+    np.testing.assert_array_equal(a.accel, b.accel)
+    ga = read_table(sim / "mav0/state_groundtruth_estimate0/data.csv", {17}).values
+    gb = read_table(tmp_path / "out/mav0/state_groundtruth_estimate0/data.csv", {17}).values
+    np.testing.assert_allclose(gb[:, 0:3], ga[:, 0:3], atol=1e-12)
+    np.testing.assert_allclose(np.abs((gb[:, 3:7] * ga[:, 3:7]).sum(axis=1)), 1.0, atol=1e-12)
+    r = run_eval("mocap-truth", tmp_path / "out")
+    assert r.returncode == 0, r.stderr
+    F = load_force_gt(tmp_path / "out/mav0/force0/data.csv")
+    T = load_force_gt(sim / "mav0/force0/data.csv")
+    np.testing.assert_array_equal(F.t_ns, T.t_ns)
+    inner = slice(100, -100)   # 0.5 s filter edges
+    err = np.sqrt(np.mean((F.values[inner] - T.values[inner]) ** 2))
+    assert err < 0.01 * np.sqrt(np.mean(T.values[inner] ** 2)), err

@@ -8,12 +8,14 @@
 * :func:`mocap_body_rate`: the mocap body angular rate, w_M = Log(R_k^T R_k+1) / dt at the
   midpoint of two poses.
 * :func:`gyro_mocap_sync`: d from |w_I| vs |w_M| (rotation-invariant), then R_IM from the rate
-  vectors (Wahba's problem: scipy ``Rotation.align_vectors``, w_I = R_IM w_M), then d again on
-  the vectors rotated into I, and R_IM again.
+  vectors (Wahba's problem: scipy ``Rotation.align_vectors`` on the centred vectors, w_I = b +
+  R_IM w_M with a gyro bias b), then d again on the vectors rotated into I, and R_IM again.
+* Each number comes with a standard error from its spread over 5 consecutive parts of the log:
+  a flight that hardly rotates cannot pin them down, and says so.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional, Tuple
 
 import numpy as np
@@ -25,6 +27,7 @@ from ..geometry import rot_from_wxyz
 from .errors import DataError
 
 DEFAULT_MAX_LAG_S = 0.5
+SEGMENTS = 5
 
 
 @dataclass
@@ -33,6 +36,7 @@ class Lag:
     coarse_s: float      # best whole-sample lag
     correlation: float   # normalized correlation (or R^2 with regressors) at offset_s
     samples: int         # reference samples used
+    stderr_s: float = float("nan")   # standard error: spread of the offset over SEGMENTS parts / sqrt(parts)
 
 
 def _corr(a: np.ndarray, b: np.ndarray) -> float:
@@ -51,35 +55,48 @@ def _r2(y: np.ndarray, X: np.ndarray) -> float:
 
 
 def lag(t_ref_ns: np.ndarray, x_ref: np.ndarray, t_other_ns: np.ndarray, x_other: np.ndarray,
-        max_lag_s: float = DEFAULT_MAX_LAG_S, regressors: Optional[np.ndarray] = None) -> Lag:
+        max_lag_s: float = DEFAULT_MAX_LAG_S, regressors: Optional[np.ndarray] = None,
+        segments: int = SEGMENTS) -> Lag:
     """Offset of ``x_other`` against ``x_ref`` (1-D or (N, k)); see the module docstring.
 
     With ``regressors`` ((N, r) at the reference times; 1-D ``x_ref`` only) the score is the
     R^2 of x_ref ~ a x_other(t + d) + b + c . regressors instead of the correlation (a known
-    second cause of x_ref, such as body drag in the accelerometer, would otherwise bias d)."""
+    second cause of x_ref, such as body drag in the accelerometer, would otherwise bias d).
+    The standard error comes from the spread of d over ``segments`` consecutive parts."""
     t0 = int(t_ref_ns[0])
     tr = (t_ref_ns - t0) * 1e-9
     to = (t_other_ns - t0) * 1e-9
     xr = np.asarray(x_ref, dtype=float).reshape(len(tr), -1)
     spline = CubicSpline(to, np.asarray(x_other, dtype=float).reshape(len(to), -1), axis=0, extrapolate=False)
-    keep = (tr >= to[0] + max_lag_s) & (tr <= to[-1] - max_lag_s)
+    margin = max_lag_s + 2.0 * max(float(np.median(np.diff(tr))), float(np.median(np.diff(to))))
+    keep = (tr >= to[0] + margin) & (tr <= to[-1] - margin)
     if keep.sum() < 20:
         raise DataError(f"{int(keep.sum())} samples where the streams overlap (with +-{max_lag_s:g} s of lag): "
                         "too few to measure a clock offset")
-    tk, xk = tr[keep], xr[keep]
-    if regressors is None:
+    fixed = None
+    if regressors is not None:
+        fixed = np.hstack([np.asarray(regressors, dtype=float).reshape(len(tr), -1), np.ones((len(tr), 1))])
+    dt = float(np.median(np.diff(tr)))
+    idx = np.flatnonzero(keep)
+    offset, coarse, value = _best(tr[idx], xr[idx], None if fixed is None else fixed[idx], spline, dt, max_lag_s)
+    parts = [p for p in np.array_split(idx, segments) if p.size >= 20] if segments > 1 else []
+    each = [_best(tr[p], xr[p], None if fixed is None else fixed[p], spline, dt, max_lag_s)[0] for p in parts]
+    stderr = float(np.std(each, ddof=1) / np.sqrt(len(each))) if len(each) > 1 else float("nan")
+    return Lag(offset, coarse, value, int(keep.sum()), stderr)
+
+
+def _best(tk, xk, fixed, spline, dt, max_lag_s):
+    """(refined offset, whole-sample offset, score) of one set of reference samples."""
+    if fixed is None:
         score = lambda d: _corr(xk, spline(tk + d))  # noqa: E731
     else:
-        fixed = np.hstack([np.asarray(regressors, dtype=float).reshape(len(tr), -1)[keep], np.ones((len(tk), 1))])
         score = lambda d: _r2(xk[:, 0], np.hstack([spline(tk + d), fixed]))  # noqa: E731
-    dt = float(np.median(np.diff(tr)))
     steps = np.arange(-int(max_lag_s / dt), int(max_lag_s / dt) + 1)
     scores = np.array([score(k * dt) for k in steps])
-    best = int(np.argmax(scores))
-    coarse = float(steps[best] * dt)
+    coarse = float(steps[int(np.argmax(scores))] * dt)
     res = minimize_scalar(lambda d: -score(d), bounds=(coarse - dt, coarse + dt),
                           method="bounded", options={"xatol": 1e-7})
-    return Lag(float(res.x), coarse, -float(res.fun), int(keep.sum()))
+    return float(res.x), coarse, -float(res.fun)
 
 
 def mocap_body_rate(t_ns: np.ndarray, q_WM_wxyz: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
@@ -95,28 +112,42 @@ def mocap_body_rate(t_ns: np.ndarray, q_WM_wxyz: np.ndarray) -> Tuple[np.ndarray
 class GyroSync:
     lag: Lag
     R_IM: Rotation         # mocap body axes -> IMU axes (w_I = R_IM w_M)
-    rms_rad_s: float       # |w_I - R_IM w_M(t + d)| RMS after both corrections
+    rms_rad_s: float       # |w_I - b - R_IM w_M(t + d)| RMS after the corrections
+    bias: np.ndarray = field(default_factory=lambda: np.zeros(3))   # gyro bias b fitted alongside R_IM
+    angle_stderr_deg: float = float("nan")   # spread of R_IM over SEGMENTS parts / sqrt(parts - 1)
 
 
 def gyro_mocap_sync(t_imu_ns: np.ndarray, gyro: np.ndarray, t_gt_ns: np.ndarray, q_WM_wxyz: np.ndarray,
                     max_lag_s: float = DEFAULT_MAX_LAG_S) -> GyroSync:
     """Clock offset of the mocap against the IMU and the rotation R_IM (module docstring)."""
     t_mid, w_M = mocap_body_rate(t_gt_ns, q_WM_wxyz)
-    first = lag(t_imu_ns, np.linalg.norm(gyro, axis=1), t_mid, np.linalg.norm(w_M, axis=1), max_lag_s)
+    first = lag(t_imu_ns, np.linalg.norm(gyro, axis=1), t_mid, np.linalg.norm(w_M, axis=1), max_lag_s, segments=1)
     offset = first.offset_s
     R_IM = Rotation.identity()
     result = first
     for _ in range(2):
         w_M_at = _at(t_mid, w_M, t_imu_ns, offset)
         ok = np.isfinite(w_M_at).all(axis=1)
-        R_IM, _ = Rotation.align_vectors(gyro[ok], w_M_at[ok])
+        R_IM = _wahba(gyro[ok], w_M_at[ok])
         result = lag(t_imu_ns, gyro, t_mid, R_IM.apply(w_M), max_lag_s)
         offset = result.offset_s
     w_M_at = _at(t_mid, w_M, t_imu_ns, offset)
     ok = np.isfinite(w_M_at).all(axis=1)
-    R_IM, _ = Rotation.align_vectors(gyro[ok], w_M_at[ok])
-    rms = float(np.sqrt(np.mean(np.sum((gyro[ok] - R_IM.apply(w_M_at[ok])) ** 2, axis=1))))
-    return GyroSync(result, R_IM, rms)
+    R_IM = _wahba(gyro[ok], w_M_at[ok])
+    bias = gyro[ok].mean(axis=0) - R_IM.apply(w_M_at[ok].mean(axis=0))
+    rms = float(np.sqrt(np.mean(np.sum((gyro[ok] - bias - R_IM.apply(w_M_at[ok])) ** 2, axis=1))))
+    parts = [p for p in np.array_split(np.flatnonzero(ok), SEGMENTS) if p.size >= 20]
+    each = [_wahba(gyro[p], w_M_at[p]) for p in parts]
+    spread = np.array([np.degrees((R * R_IM.inv()).magnitude()) for R in each])
+    stderr = float(np.sqrt(np.mean(spread ** 2) / max(len(each) - 1, 1))) if len(each) > 1 else float("nan")
+    return GyroSync(result, R_IM, rms, bias, stderr)
+
+
+def _wahba(w_I: np.ndarray, w_M: np.ndarray) -> Rotation:
+    """R_IM minimizing |w_I - b - R_IM w_M|^2 over R_IM and a constant gyro bias b (both sides
+    centred, then scipy's align_vectors)."""
+    R, _ = Rotation.align_vectors(w_I - w_I.mean(axis=0), w_M - w_M.mean(axis=0))
+    return R
 
 
 def _at(t_ns: np.ndarray, x: np.ndarray, t_query_ns: np.ndarray, offset_s: float) -> np.ndarray:

@@ -87,7 +87,9 @@ class TruthReport:
     def as_dict(self) -> Dict:
         rv = self.gyro.R_IM.as_rotvec(degrees=True)
         return {
-            "mocap_minus_imu_s": self.gyro.lag.offset_s, "mocap_lag_coarse_s": self.gyro.lag.coarse_s,
+            "mocap_minus_imu_s": self.gyro.lag.offset_s, "mocap_minus_imu_stderr_s": self.gyro.lag.stderr_s,
+            "R_IM_angle_stderr_deg": self.gyro.angle_stderr_deg, "gyro_bias_rad_s": self.gyro.bias.tolist(),
+            "thrust_minus_imu_stderr_s": self.thrust.stderr_s, "mocap_lag_coarse_s": self.gyro.lag.coarse_s,
             "gyro_mocap_correlation": self.gyro.lag.correlation,
             "R_IM_rotvec_deg": rv.tolist(), "R_IM_angle_deg": float(np.linalg.norm(rv)),
             "rate_residual_rms_rad_s": self.gyro.rms_rad_s,
@@ -149,11 +151,13 @@ def report_lines(r: TruthReport, cutoff_hz: float) -> List[str]:
     g = r.gyro
     rv = g.R_IM.as_rotvec(degrees=True)
     return [
-        f"mocap vs gyro: mocap stamps - IMU stamps = {g.lag.offset_s * 1e3:+.3f} ms (best whole sample "
+        f"mocap vs gyro: mocap stamps - IMU stamps = {g.lag.offset_s * 1e3:+.3f} +- {g.lag.stderr_s * 1e3:.3f} ms "
+        f"(best whole sample "
         f"{g.lag.coarse_s * 1e3:+.1f} ms; rate correlation {g.lag.correlation:.4f} over {g.lag.samples} samples)",
-        f"IMU vs mocap body: rotation R_IM {np.linalg.norm(rv):.3f} deg (rotation vector "
-        f"[{rv[0]:+.3f}, {rv[1]:+.3f}, {rv[2]:+.3f}] deg); rate residual RMS {g.rms_rad_s:.4f} rad/s",
-        f"thrust vs accelerometer z: thrust stamps - IMU stamps = {r.thrust.offset_s * 1e3:+.3f} ms "
+        f"IMU vs mocap body: rotation R_IM {np.linalg.norm(rv):.3f} +- {g.angle_stderr_deg:.3f} deg (rotation vector "
+        f"[{rv[0]:+.3f}, {rv[1]:+.3f}, {rv[2]:+.3f}] deg; gyro bias fitted alongside [{g.bias[0]:+.4f}, "
+        f"{g.bias[1]:+.4f}, {g.bias[2]:+.4f}] rad/s); rate residual RMS {g.rms_rad_s:.4f} rad/s",
+        f"thrust vs accelerometer z: thrust stamps - IMU stamps = {r.thrust.offset_s * 1e3:+.3f} +- {r.thrust.stderr_s * 1e3:.3f} ms "
         f"(fit a_z = s T/m + b - D_z v_z: s {r.thrust_scale:.4f}, D_z {r.drag_z:.3f} 1/s, R^2 {r.thrust.correlation:.4f}); "
         f"without the drag term {r.thrust_plain.offset_s * 1e3:+.3f} ms",
         *[f"applied: {a}" for a in r.applied],
