@@ -86,7 +86,7 @@ def convert(smap: SourceMap, root: Path, opts: Options) -> Tuple[Imported, List[
     """Everything but the writing; returns the converted log and the report lines."""
     pieces = find_pieces(smap, root)
     names = ", ".join(p.name for p in pieces)
-    lines = [f"map {smap.path}: {len(pieces)} piece(s) ({names})"]
+    lines = [f"map {smap.path}: {len(pieces)} piece(s) ({names}; joined in time order)"]
     imu = read_joined(smap.streams["imu"], smap, pieces, root)
     gyro = imu_vectors(imu.values["gyro"], opts.imu_frame)
     accel = imu_vectors(imu.values["accel"], opts.imu_frame)

@@ -37,6 +37,12 @@ class Lag:
     correlation: float   # normalized correlation (or R^2 with regressors) at offset_s
     samples: int         # reference samples used
     stderr_s: float = float("nan")   # standard error: spread of the offset over SEGMENTS parts / sqrt(parts)
+    at_limit: bool = False           # the best whole-sample lag is the largest searched: not determined
+
+    def text(self) -> str:
+        """``+1.234 +- 0.056 ms`` (and a warning at the search limit)."""
+        limit = " (at the --max-lag limit: not determined)" if self.at_limit else ""
+        return f"{self.offset_s * 1e3:+.3f} +- {self.stderr_s * 1e3:.3f} ms{limit}"
 
 
 def _corr(a: np.ndarray, b: np.ndarray) -> float:
@@ -82,7 +88,7 @@ def lag(t_ref_ns: np.ndarray, x_ref: np.ndarray, t_other_ns: np.ndarray, x_other
     parts = [p for p in np.array_split(idx, segments) if p.size >= 20] if segments > 1 else []
     each = [_best(tr[p], xr[p], None if fixed is None else fixed[p], spline, dt, max_lag_s)[0] for p in parts]
     stderr = float(np.std(each, ddof=1) / np.sqrt(len(each))) if len(each) > 1 else float("nan")
-    return Lag(offset, coarse, value, int(keep.sum()), stderr)
+    return Lag(offset, coarse, value, int(keep.sum()), stderr, abs(coarse) >= int(max_lag_s / dt) * dt - 1e-12)
 
 
 def _best(tk, xk, fixed, spline, dt, max_lag_s):

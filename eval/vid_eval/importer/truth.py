@@ -151,13 +151,13 @@ def report_lines(r: TruthReport, cutoff_hz: float) -> List[str]:
     g = r.gyro
     rv = g.R_IM.as_rotvec(degrees=True)
     return [
-        f"mocap vs gyro: mocap stamps - IMU stamps = {g.lag.offset_s * 1e3:+.3f} +- {g.lag.stderr_s * 1e3:.3f} ms "
+        f"mocap vs gyro: mocap stamps - IMU stamps = {g.lag.text()} "
         f"(best whole sample "
         f"{g.lag.coarse_s * 1e3:+.1f} ms; rate correlation {g.lag.correlation:.4f} over {g.lag.samples} samples)",
         f"IMU vs mocap body: rotation R_IM {np.linalg.norm(rv):.3f} +- {g.angle_stderr_deg:.3f} deg (rotation vector "
         f"[{rv[0]:+.3f}, {rv[1]:+.3f}, {rv[2]:+.3f}] deg; gyro bias fitted alongside [{g.bias[0]:+.4f}, "
         f"{g.bias[1]:+.4f}, {g.bias[2]:+.4f}] rad/s); rate residual RMS {g.rms_rad_s:.4f} rad/s",
-        f"thrust vs accelerometer z: thrust stamps - IMU stamps = {r.thrust.offset_s * 1e3:+.3f} +- {r.thrust.stderr_s * 1e3:.3f} ms "
+        f"thrust vs accelerometer z: thrust stamps - IMU stamps = {r.thrust.text()} "
         f"(fit a_z = s T/m + b - D_z v_z: s {r.thrust_scale:.4f}, D_z {r.drag_z:.3f} 1/s, R^2 {r.thrust.correlation:.4f}); "
         f"without the drag term {r.thrust_plain.offset_s * 1e3:+.3f} ms",
         *[f"applied: {a}" for a in r.applied],
