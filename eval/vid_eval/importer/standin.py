@@ -8,7 +8,7 @@ writes ``imu.csv`` (seconds; FRD IMU: y and z of gyro and accelerometer negated)
 mass-normalized, along the FRD z axis, so negative), ``mocap.csv`` (seconds, blank separated;
 NED world, quaternion x y z w of the FRD body, no velocity) and ``source_map.yaml`` for them.
 Importing it with ``--imu-frame frd --world-frame ned`` gives back the simulator's IMU and
-pose (world rotated from the simulator's ENU... the simulator's W is z up: it is taken as ENU).
+pose (the simulator's world W, z up, is taken as the ENU of the NED conversion).
 """
 from __future__ import annotations
 
