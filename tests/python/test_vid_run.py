@@ -244,6 +244,36 @@ def test_feat0_dynamics_force(dyn_feat0):
     target("feat0 force RMSE [m/s^2]", summary(dyn_feat0[1])["force_rmse_world_mps2"], 0.08)
 
 
+# Fixed-lag smoothing (--smooth 0.3, docs/results.md): the smoothed force RMSE on the same 12 s,
+# feat0, measured at 182d56e over seeds 1 / 2 / 3: 0.0869 / 0.167 / 0.0916 m/s^2 (causal 0.121 /
+# 0.196 / 0.136); 1.2 x seed 1 = 0.104 is the tighter bound. Target 0.05 (issue of the smoother).
+SMOOTHED_FORCE = 0.0869
+
+
+@pytest.fixture(scope="session")
+def smoothed_feat0_rmse(rendered17, tmp_path_factory):
+    """World force RMSE of force_smoothed.csv (vid_run --smooth 0.3, feat0), by vid-eval force."""
+    out = tmp_path_factory.mktemp("run") / "smooth_feat0"
+    r = vid_run(rendered17, out, "--config", str(REPO / "config" / "sim"), "--features", "feat0", "--smooth", "0.3")
+    assert r.returncode == 0, r.stderr
+    js = out / "force_smoothed_eval.json"
+    subprocess.run([str(VENV_BIN / "vid-eval"), "force", str(out / "force_smoothed.csv"),
+                    str(rendered17 / "mav0" / "force0" / "data.csv"), "--json", str(js)],
+                   check=True, capture_output=True, timeout=120)
+    d = json.loads(js.read_text())
+    assert d["alignment"]["est_trajectory"].endswith("trajectory_smoothed_tum.txt")
+    return d["force_rmse_world_mps2"]
+
+
+def test_smoothed_force_ratchet(smoothed_feat0_rmse):
+    ratchet("feat0 smoothed force RMSE [m/s^2]", smoothed_feat0_rmse, 1.2 * SMOOTHED_FORCE, SMOOTHED_FORCE)
+
+
+@target_not_met("open: smoothed (0.3 s lag) world force RMSE 0.087 m/s^2 > 0.05 (docs/results.md)")
+def test_smoothed_force_target(smoothed_feat0_rmse):
+    target("feat0 smoothed force RMSE [m/s^2]", smoothed_feat0_rmse, 0.05)
+
+
 def test_start_end_window(rendered17, tmp_path):
     out = tmp_path / "window"
     r = vid_run(rendered17, out, "--config", str(REPO / "config" / "sim"), "--features", "feat0",
