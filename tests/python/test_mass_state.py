@@ -2,7 +2,7 @@
 a slow external-force model, a payload picked up and dropped in flight (vid_loaded: +0.6 kg on
 3.1 kg at 25 s, off again at 45 s) and a continuous loss (spraying) are identified from camera,
 IMU and rotor speeds alone; seeds 1-3, feature-level, random initial heading. payload_heavy
-(1.2 kg, 39 %) is the case not yet met (strict xfail)."""
+(1.2 kg, 39 %) is the case not yet met (strict xfail next to a ratchet, docs/testing.md)."""
 import shutil
 
 import numpy as np
@@ -12,9 +12,23 @@ from vid_eval.loaders import load_mass
 from vid_eval.mass_metrics import MassResult, settle_times
 from vid_eval.pairing import PairingOptions, pair_scalars
 
+from ratchets import band, ratchet, target, target_not_met
 from test_vid_run_helpers import REPO, simulate_cached, summary, vid_run
 
 SEEDS = (1, 2, 3)
+
+# Measured at 182d56e (mass config below, 60 s, feature level):
+#   vid_loaded mass RMSPE after 5 s, seeds 1-6: 1.87 / 1.54 / 2.48 / 2.90 / 1.83 / 2.56 %; each
+#   test seed is held at 1.2 x its own value (mean + 3 sd over seeds 1-6 = 3.5 % is looser);
+#   mass NEES over seeds 1-3 at common times: mean 0.935, in the 95 % band 81.8 % of the time;
+#   the same over other seed triples (4-6, 1-2-4, 2-3-5, 3-5-6): mean 0.61-0.85, in band
+#   72.7-81.5 % (sd of the in-band fraction 0.037: ratchet at 0.818 - 3 sd = 0.70, tighter than
+#   20 % worse = 0.65); the mean is held two-sided at 0.935 / 1.2 .. 0.935 x 1.2 (a sigma too
+#   small or too large by 10 % moves it out; the seed-triple spread, sd 0.12, is looser);
+#   payload_heavy seed 1 RMSPE 3.34 % (seeds 2, 3: 4.83, 4.54) -> ratchet 1.2 x 3.34 = 4.01 %.
+RMSPE_PCT = {1: 1.87, 2: 1.54, 3: 2.48}
+NEES_MEAN, NEES_IN_BAND, NEES_IN_BAND_RATCHET = 0.935, 0.818, 0.70
+HEAVY_RMSPE_PCT = 3.34
 
 
 @pytest.fixture(scope="module")
@@ -55,7 +69,8 @@ def run(configs, tmp_path_factory, preset, seed, which):
 @pytest.mark.parametrize("seed", SEEDS)
 def test_payload_mass_identified(configs, tmp_path_factory, seed):
     m = run(configs, tmp_path_factory, "vid_loaded", seed, "mass")["mass"]
-    assert m.rmspe <= 3.0, f"mass RMSPE after 5 s {m.rmspe:.2f} %"
+    assert m.rmspe <= 3.0, f"mass RMSPE after 5 s {m.rmspe:.2f} %"  # the issue's target, met
+    ratchet(f"vid_loaded seed {seed} mass RMSPE after 5 s [%]", m.rmspe, 1.2 * RMSPE_PCT[seed], RMSPE_PCT[seed])
     events = m.as_dict()["settle_5pct"]
     assert [round(e["t_s"], 1) for e in events] == [25.3, 45.3], events  # end of each 0.3 s ramp
     for e in events:
@@ -73,7 +88,8 @@ def test_mass_state_keeps_pose_and_force(configs, tmp_path_factory, seed):
     assert with_mass["force_rmse_world_mps2"] < 0.3
 
 
-def _mass_nees(configs, tmp_path_factory) -> np.ndarray:
+@pytest.fixture(scope="module")
+def mass_nees(configs, tmp_path_factory) -> np.ndarray:
     """Run-averaged NEES of the mass over the seeds, at the times all runs share."""
     runs = [run(configs, tmp_path_factory, "vid_loaded", s, "mass")["mass"] for s in SEEDS]
     common = runs[0].est.t_ns
@@ -87,31 +103,51 @@ def _mass_nees(configs, tmp_path_factory) -> np.ndarray:
     return np.mean(per_run, axis=0)
 
 
-def test_mass_sigma_is_the_right_size(configs, tmp_path_factory):
-    """Monte-Carlo NEES of the mass over the three seeds at common times: its mean is near 1
-    (measured 0.93 with thrust_scale_random_walk 0.02)."""
-    nees = _mass_nees(configs, tmp_path_factory)
-    assert 0.5 <= nees.mean() <= 2.0, f"mass NEES mean {nees.mean():.2f}"
-
-
-@pytest.mark.xfail(strict=True, reason="issue #21: in band 82 % (target 90 %): the sigma stays wider than the "
-                                       "error after each step while s and F share it (README 'Mass state')")
-def test_mass_nees_in_band(configs, tmp_path_factory):
-    """The issue's criterion: inside the 95 % band of chi2(3)/3 >= 90 % of the time."""
+def _in_band(nees: np.ndarray) -> float:
+    """Fraction of the time inside the 95 % band of chi2(3)/3 (3 runs of one dof)."""
     from scipy.stats import chi2
-    nees = _mass_nees(configs, tmp_path_factory)
     n = len(SEEDS)
-    inside = np.mean((nees > chi2.ppf(0.025, n) / n) & (nees < chi2.ppf(0.975, n) / n))
-    assert inside >= 0.9, f"mass NEES in band {100 * inside:.0f} % of the time"
+    return float(np.mean((nees > chi2.ppf(0.025, n) / n) & (nees < chi2.ppf(0.975, n) / n)))
 
 
-@pytest.mark.xfail(strict=True, reason="issue #21: 3.5 % RMSPE after 5 s (target 3 %) on the 1.2 kg payload "
-                                       "(the force-jump prior splits the step evenly between F and s)")
-def test_heavy_payload_meets_the_targets(configs, tmp_path_factory):
+def test_mass_sigma_is_the_right_size(mass_nees):
+    """Monte-Carlo NEES of the mass over the three seeds at common times: its mean is held
+    two-sided at today's value (too small a sigma raises it, too large lowers it)."""
+    band("mass NEES mean (seeds 1-3)", float(mass_nees.mean()), NEES_MEAN / 1.2, NEES_MEAN * 1.2)
+
+
+def test_mass_nees_in_band_ratchet(mass_nees):
+    ratchet("mass NEES in band (seeds 1-3)", _in_band(mass_nees), NEES_IN_BAND_RATCHET, NEES_IN_BAND,
+            higher_is_better=True)
+
+
+@target_not_met("issue #21: in band 82 % (target 90 %): the sigma stays wider than the "
+                "error after each step while s and F share it (README 'Mass state')")
+def test_mass_nees_in_band(mass_nees):
+    """The issue's criterion: inside the 95 % band of chi2(3)/3 >= 90 % of the time."""
+    target("mass NEES in band (seeds 1-3)", _in_band(mass_nees), 0.9, higher_is_better=True)
+
+
+@pytest.fixture(scope="module")
+def heavy(configs, tmp_path_factory):
+    """payload_heavy (1.2 kg, 39 %), seed 1: the mass result and its two settle events."""
     m = run(configs, tmp_path_factory, "payload_heavy", 1, "mass")["mass"]
     events = m.as_dict()["settle_5pct"]
-    assert m.rmspe <= 3.0 and all(e["settle_s"] is not None and e["settle_s"] <= 2.0 for e in events), \
-        (m.rmspe, events)
+    assert len(events) == 2, events
+    return m, events
+
+
+def test_heavy_payload_ratchet(heavy):
+    ratchet("payload_heavy mass RMSPE after 5 s [%]", heavy[0].rmspe, 1.2 * HEAVY_RMSPE_PCT, HEAVY_RMSPE_PCT)
+
+
+@target_not_met("issue #21: 3.3 % RMSPE after 5 s (target 3 %) on the 1.2 kg payload "
+                "(the force-jump prior splits the step evenly between F and s)")
+def test_heavy_payload_meets_the_targets(heavy):
+    m, events = heavy
+    worst_settle = max(e["settle_s"] if e["settle_s"] is not None else np.inf for e in events)
+    target("payload_heavy mass RMSPE after 5 s [%]", m.rmspe, 3.0)
+    target("payload_heavy slowest settle [s]", worst_settle, 2.0)
 
 
 def test_continuous_mass_loss(configs, tmp_path_factory):

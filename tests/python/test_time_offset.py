@@ -10,6 +10,7 @@ import pytest
 from scipy.stats import chi2
 from vid_eval.time_offset_bound import rotation_bound
 
+from ratchets import ratchet, target, target_not_met
 from test_vid_run_helpers import REPO, simulate, summary, vid_run
 
 
@@ -147,19 +148,39 @@ def test_offset_consistent_with_sensor_noise(tmp_path, offset, mode):
     assert np.all((nees >= lo) & (nees <= hi)), f"mean NEES {nees} over {n} runs, band [{lo:.2f}, {hi:.2f}]"
 
 
-@pytest.mark.xfail(strict=True, reason="issue #23: 0.5 ms after 10 s is below what vid18_like's rotation can tell: "
-                                       "the information bound is 1.9-3.1 ms at 10 s (README)")
-@pytest.mark.parametrize("seed", [1, 2, 3])
-def test_offset_estimated_online(tmp_path, seed):
-    """The issue's criterion: from a true 10 ms offset (0.5 ms jitter), within 0.5 ms after 10 s."""
-    seq = simulate(tmp_path / "seq", scenario(tmp_path, "vid18_like",
-                                              "  time_offset_s: 0.010\n  time_offset_jitter_s: 0.0005\n"),
+# Measured (vid18_like, 20 s, +10 ms with 0.5 ms jitter, estimated from 0 with sigma 20 ms), 182d56e:
+# largest |t_d error| after 10 s 1.14 / 4.20 / 2.92 ms for seeds 1 / 2 / 3. The seed spread is
+# wide (mean + 3 sd = 7.4 ms), so each seed is held at 1.2 x its own value.
+ONLINE_ERROR_S = {1: 1.14e-3, 2: 4.20e-3, 3: 2.92e-3}
+
+
+@pytest.fixture(scope="module", params=[1, 2, 3])
+def online_offset(request, tmp_path_factory):
+    """(seed, largest |t_d error| after 10 s): a true 10 ms offset (0.5 ms jitter), estimated
+    from 0 on vid18_like; the run's own checks are here, outside the xfail."""
+    seed, tmp = request.param, tmp_path_factory.mktemp(f"online_{request.param}")
+    seq = simulate(tmp / "seq", scenario(tmp, "vid18_like", "  time_offset_s: 0.010\n  time_offset_jitter_s: 0.0005\n"),
                    20.0, seed, True)
-    out = tmp_path / "out"
-    r = vid_run(seq, out, "--config", str(config(tmp_path, 0.02, 0.0005)))
+    out = tmp / "out"
+    r = vid_run(seq, out, "--config", str(config(tmp, 0.02, 0.0005)))
     assert r.returncode == 0, r.stderr
     t, td, _ = offset_series(out)
-    assert np.abs(td[t >= 10.0] - 0.010).max() <= 0.0005
+    assert t[-1] > 19.0
+    return seed, float(np.abs(td[t >= 10.0] - 0.010).max())
+
+
+def test_offset_estimated_online_ratchet(online_offset):
+    seed, err = online_offset
+    ratchet(f"vid18_like seed {seed} t_d error after 10 s [s]", err, 1.2 * ONLINE_ERROR_S[seed],
+            ONLINE_ERROR_S[seed])
+
+
+@target_not_met("issue #23: 0.5 ms after 10 s is below what vid18_like's rotation can tell: "
+                "the information bound is 1.9-3.1 ms at 10 s (README)")
+def test_offset_estimated_online(online_offset):
+    """The issue's criterion: from a true 10 ms offset (0.5 ms jitter), within 0.5 ms after 10 s."""
+    seed, err = online_offset
+    target(f"vid18_like seed {seed} t_d error after 10 s [s]", err, 0.0005)
 
 
 def test_rotation_bound_matches_the_closed_form():

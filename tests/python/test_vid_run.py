@@ -4,26 +4,34 @@ mode, evo accepts the trajectory, summary.json metrics equal vid-eval's, --start
 decoded ahead on other threads give byte-identical outputs to inline decoding (also on SIGINT
 the summary is written and its decoding CPU time is accounted).
 
-Thresholds are the issue's acceptance values; they are not tuned to pass.
+Accuracy figures are ratchets at today's value (a regression fails) next to strict xfails at
+the issue's targets (docs/testing.md).
 """
 import json
 import subprocess
 
 import pytest
 
+from ratchets import ratchet, target, target_not_met
 from test_vid_run_helpers import (REPO, VENV_BIN, first_timestamp_ns, interrupt_vid_run, simulate_cached, summary,
                                   tum_rows, vid_run)
 
 SEQ_S = 12.0  # rendered seconds of vid17_like_short (seed 1)
 
-# Known gap (issues 4 and 6): the world-frame force error on these 12 s is 0.13 (feat0) /
-# 0.14 (images) m/s^2, not <= 0.08: in the first seconds roll/pitch, the accelerometer bias and
-# F_ext are only separated by yaw turns (README "External-force accuracy"; analysis in
-# tests/vio_core/test_sim_accuracy.cpp). The assertions keep the issue's threshold; strict xfail
-# turns green into a failure once the estimator meets it, so the marker must then be removed.
-FORCE_GAP = pytest.mark.xfail(strict=True, reason="open: world-frame force RMSE 0.13-0.14 m/s^2 > 0.08 (issues 4, 6)")
+# Known gap (issues 4 and 6): the world-frame force error on these 12 s is 0.12-0.13 m/s^2, not
+# <= 0.08: in the first seconds roll/pitch, the accelerometer bias and F_ext are only separated by
+# yaw turns (README "External-force accuracy"; analysis in tests/vio_core/test_sim_accuracy.cpp).
+# The strict xfails hold the issue's target and expect only TargetNotMet; the ratchets below hold
+# today's value.
+FORCE_GAP = target_not_met("open: world-frame force RMSE 0.12-0.13 m/s^2 > 0.08 (issues 4, 6)")
 
-
+# Measured on vid17_like_short 12 s, config/sim, seeds 1-3 (seed 1 is the test's), 182d56e:
+#   force RMSE images 0.131 / 0.197 / 0.150, feat0 0.121 / 0.196 / 0.136 m/s^2 (the seed spread
+#   is wide: 1.2 x seed 1 is the tighter bound);
+#   ATE images 0.00470 / 0.00491 / 0.00483 m (mean + 3 sd = 0.00513 is tighter than 1.2 x),
+#   feat0 0.00368 / 0.00585 / 0.00412 m (1.2 x seed 1 = 0.00441).
+FORCE_IMAGES, FORCE_FEAT0 = 0.131, 0.121
+ATE_IMAGES, ATE_FEAT0 = 0.00470, 0.00368
 
 
 @pytest.fixture(scope="session")
@@ -43,6 +51,8 @@ def dyn_images(rendered17, tmp_path_factory):
     """Dynamics mode (auto: rotor0 present) on the rendered images with the sim preset."""
     out = tmp_path_factory.mktemp("run") / "dyn_images"
     r = vid_run(rendered17, out, "--config", str(REPO / "config" / "sim"))
+    assert r.returncode == 0, r.stderr
+    assert summary(out)["force_pairs"] > 0.9 * 200 * SEQ_S  # compared against every force0 sample
     return rendered17, out, r
 
 
@@ -50,6 +60,8 @@ def dyn_images(rendered17, tmp_path_factory):
 def dyn_feat0(rendered17, tmp_path_factory):
     out = tmp_path_factory.mktemp("run") / "dyn_feat0"
     r = vid_run(rendered17, out, "--config", str(REPO / "config" / "sim"), "--features", "feat0")
+    assert r.returncode == 0, r.stderr
+    assert summary(out)["force_pairs"] > 0.9 * 200 * SEQ_S
     return rendered17, out, r
 
 
@@ -64,18 +76,19 @@ def test_rendered_dynamics_ate(dyn_images):
     assert s["counts"]["camera_frames"] >= 0.9 * SEQ_S * 30
     assert s["counts"]["frames_skipped_bad_image"] == 0
     assert s["counts"]["visual_updates"] > 0
-    # Issue 6 acceptance on a short rendered sequence.
-    assert s["ate_posyaw_m"] <= 0.05, f"ATE {s['ate_posyaw_m']:.4f} m"
+    # Issue 6 acceptance (<= 0.05 m) is met by a factor 10: the ratchet holds today's value.
+    ratchet("rendered ATE posyaw [m]", s["ate_posyaw_m"], 0.00513, ATE_IMAGES)
+
+
+def test_rendered_dynamics_force_ratchet(dyn_images):
+    ratchet("rendered force RMSE [m/s^2]", summary(dyn_images[1])["force_rmse_world_mps2"], FORCE_IMAGES * 1.2,
+            FORCE_IMAGES)
 
 
 @FORCE_GAP
 def test_rendered_dynamics_force(dyn_images):
     """Issue 6 acceptance: external-force RMSE (world, mass-normalized) <= 0.08 m/s^2."""
-    _, out, r = dyn_images
-    assert r.returncode == 0, r.stderr
-    s = summary(out)
-    assert s["force_pairs"] > 0.9 * 200 * SEQ_S  # compared against every force0 sample
-    assert s["force_rmse_world_mps2"] <= 0.08, f"force RMSE {s['force_rmse_world_mps2']:.4f} m/s^2"
+    target("rendered force RMSE [m/s^2]", summary(dyn_images[1])["force_rmse_world_mps2"], 0.08)
 
 
 def test_summary_has_stage_times_and_run_facts(dyn_images):
@@ -217,16 +230,48 @@ def test_features_feat0_vs_images(dyn_images, dyn_feat0):
     assert sf["counts"]["camera_frames"] == 0
     assert sf["timing"]["image_decoding"]["count"] == 0
     assert sf["counts"]["visual_updates"] > 0
-    # Both feature sources see the same scene: both meet the same accuracy bounds.
-    assert sf["ate_posyaw_m"] <= 0.05
+    # Both feature sources see the same scene; issue 6's 0.05 m is met by a factor 10.
+    ratchet("feat0 ATE posyaw [m]", sf["ate_posyaw_m"], ATE_FEAT0 * 1.2, ATE_FEAT0)
+
+
+def test_feat0_dynamics_force_ratchet(dyn_feat0):
+    ratchet("feat0 force RMSE [m/s^2]", summary(dyn_feat0[1])["force_rmse_world_mps2"], FORCE_FEAT0 * 1.2,
+            FORCE_FEAT0)
 
 
 @FORCE_GAP
 def test_feat0_dynamics_force(dyn_feat0):
-    _, out_feat, r = dyn_feat0
+    target("feat0 force RMSE [m/s^2]", summary(dyn_feat0[1])["force_rmse_world_mps2"], 0.08)
+
+
+# Fixed-lag smoothing (--smooth 0.3, docs/results.md): the smoothed force RMSE on the same 12 s,
+# feat0, measured at 182d56e over seeds 1 / 2 / 3: 0.0869 / 0.167 / 0.0916 m/s^2 (causal 0.121 /
+# 0.196 / 0.136); 1.2 x seed 1 = 0.104 is the tighter bound. Target 0.05 (issue of the smoother).
+SMOOTHED_FORCE = 0.0869
+
+
+@pytest.fixture(scope="session")
+def smoothed_feat0_rmse(rendered17, tmp_path_factory):
+    """World force RMSE of force_smoothed.csv (vid_run --smooth 0.3, feat0), by vid-eval force."""
+    out = tmp_path_factory.mktemp("run") / "smooth_feat0"
+    r = vid_run(rendered17, out, "--config", str(REPO / "config" / "sim"), "--features", "feat0", "--smooth", "0.3")
     assert r.returncode == 0, r.stderr
-    sf = summary(out_feat)
-    assert sf["force_rmse_world_mps2"] <= 0.08, f"feat0 force RMSE {sf['force_rmse_world_mps2']:.4f} m/s^2"
+    js = out / "force_smoothed_eval.json"
+    subprocess.run([str(VENV_BIN / "vid-eval"), "force", str(out / "force_smoothed.csv"),
+                    str(rendered17 / "mav0" / "force0" / "data.csv"), "--json", str(js)],
+                   check=True, capture_output=True, timeout=120)
+    d = json.loads(js.read_text())
+    assert d["alignment"]["est_trajectory"].endswith("trajectory_smoothed_tum.txt")
+    return d["force_rmse_world_mps2"]
+
+
+def test_smoothed_force_ratchet(smoothed_feat0_rmse):
+    ratchet("feat0 smoothed force RMSE [m/s^2]", smoothed_feat0_rmse, 1.2 * SMOOTHED_FORCE, SMOOTHED_FORCE)
+
+
+@target_not_met("open: smoothed (0.3 s lag) world force RMSE 0.087 m/s^2 > 0.05 (docs/results.md)")
+def test_smoothed_force_target(smoothed_feat0_rmse):
+    target("feat0 smoothed force RMSE [m/s^2]", smoothed_feat0_rmse, 0.05)
 
 
 def test_start_end_window(rendered17, tmp_path):

@@ -5,12 +5,13 @@ Each preset runs with the force-jump detection (the default) and without it (the
 before issue 17), feature level, fixed seed, random initial heading. Thresholds are the issue's
 acceptance values; those the estimator does not reach (force RMSE on rope_snap and impacts,
 settling after steps) are strict xfails with the measured numbers and the reason
-(README "Abrupt external forces").
+(README "Abrupt external forces"), each next to a ratchet at today's value (docs/testing.md).
 """
 import shutil
 
 import pytest
 
+from ratchets import ratchet, target, target_not_met
 from test_vid_run_helpers import REPO, run_and_score, simulate
 
 ABRUPT = ["rope_snap_short", "impacts_short", "force_steps_short"]
@@ -64,21 +65,54 @@ def test_abrupt_forces_are_followed(configs, tmp_path_factory, preset):
     assert s["accel"]["rejected"] == 0 < off["summary"]["accel"]["rejected"], "down-weighted, never dropped"
 
 
-@pytest.mark.parametrize("preset", ["rope_snap_short", "impacts_short"])
-@pytest.mark.xfail(strict=True, reason="open (issue 17): force RMSE 0.47 (rope_snap_short) / 0.97 (impacts_short) "
-                   "m/s^2 > 0.25; a causal filter told the exact jump times does 0.42 / 0.38 on the full "
-                   "presets (vid-eval force-bound --jump-oracle 0.2): README 'Abrupt external forces'")
-def test_abrupt_force_rmse_target(configs, tmp_path_factory, preset):
-    s = run_preset(configs, tmp_path_factory, preset)["summary"]
-    assert s["force_rmse_world_mps2"] <= 0.25
+# Measured with config/sim, seeds 1-3 (seed 1 is the test's), 182d56e:
+#   force RMSE rope_snap_short 0.466 / 0.477 / 0.485 m/s^2 (mean + 3 sd = 0.505, tighter than
+#   1.2 x 0.466 = 0.560); impacts_short 0.950 / 0.914 / 0.830 (mean + 3 sd = 1.083 < 1.2 x 0.950);
+#   settling after the steps of force_steps_short 0.635 / 0.805 / 1.435 s (1.2 x 0.635 = 0.762).
+FORCE_RMSE = {"rope_snap_short": (0.466, 0.505), "impacts_short": (0.950, 1.083)}  # (measured, ratchet)
+SETTLING_S = (0.635, 0.762)
 
 
-@pytest.mark.xfail(strict=True, reason="open (issue 17): settling after 2.6-3.2 m/s^2 steps takes up to 0.64 s "
-                   "> 0.3 s; 400 samples of 2 m/s^2 noise are needed to pin a level to 0.1 m/s^2")
-def test_settling_after_steps(configs, tmp_path_factory):
+@pytest.fixture(params=["rope_snap_short", "impacts_short"])
+def abrupt_gap(request, configs, tmp_path_factory):
+    """(preset, summary) of a preset whose force RMSE is short of the target; the run's own
+    checks (exit code, status) are here, outside the xfail."""
+    s = run_preset(configs, tmp_path_factory, request.param)["summary"]
+    assert s["status"] == "ok"
+    return request.param, s
+
+
+def test_abrupt_force_rmse_ratchet(abrupt_gap):
+    preset, s = abrupt_gap
+    measured, limit = FORCE_RMSE[preset]
+    ratchet(f"{preset} force RMSE [m/s^2]", s["force_rmse_world_mps2"], limit, measured)
+
+
+@target_not_met("open (issue 17): force RMSE 0.47 (rope_snap_short) / 0.95 (impacts_short) "
+                "m/s^2 > 0.25; a causal filter told the exact jump times does 0.42 / 0.38 on the full "
+                "presets (vid-eval force-bound --jump-oracle 0.2): README 'Abrupt external forces'")
+def test_abrupt_force_rmse_target(abrupt_gap):
+    preset, s = abrupt_gap
+    target(f"{preset} force RMSE [m/s^2]", s["force_rmse_world_mps2"], 0.25)
+
+
+@pytest.fixture(scope="module")
+def step_response(configs, tmp_path_factory):
+    """force_steps_short's step response (vid-eval force): every step found."""
     resp = run_preset(configs, tmp_path_factory, "force_steps_short")["force"]["response"]
     assert resp["summary"]["steps"] >= 3
-    assert resp["summary"]["settling_max_s"] <= 0.3
+    return resp
+
+
+def test_settling_after_steps_ratchet(step_response):
+    ratchet("force_steps_short settling max [s]", step_response["summary"]["settling_max_s"], SETTLING_S[1],
+            SETTLING_S[0])
+
+
+@target_not_met("open (issue 17): settling after 2.6-3.2 m/s^2 steps takes up to 0.64 s "
+                "> 0.3 s; 400 samples of 2 m/s^2 noise are needed to pin a level to 0.1 m/s^2")
+def test_settling_after_steps(step_response):
+    target("force_steps_short settling max [s]", step_response["summary"]["settling_max_s"], 0.3)
 
 
 def test_recorded_force_file_meets_the_targets(configs, tmp_path_factory):

@@ -4,6 +4,7 @@ Sequences are generated once per test session (vid_sim with fixed seeds) into a 
 folder; runs write into their own folders. Nothing here decides a test's outcome.
 """
 import atexit
+import hashlib
 import json
 import os
 import tempfile
@@ -50,6 +51,19 @@ _CACHE_DIR = None
 _CACHE = {}
 
 
+def made_by(scenario: str, duration_s: float, seed: int, features_only: bool) -> dict:
+    """What a simulated folder is a function of (docs/testing.md "Cached inputs"): the vid_sim
+    binary, the scenario file (and any force file it names), seed, duration, features only."""
+    path = REPO / "config" / "sim" / scenario
+    files = {"vid_sim": program("vid_sim"), "scenario": path}
+    for line in path.read_text().splitlines():  # e.g. from_file's `file: forces/step_pulse.csv`
+        if line.strip().startswith("file:"):
+            name = line.split("file:", 1)[1].split("#")[0].strip()
+            files[name] = path.parent / name
+    key = {k: hashlib.sha256(f.read_bytes()).hexdigest() for k, f in files.items()}
+    return {**key, "seed": seed, "duration_s": duration_s, "features_only": features_only}
+
+
 def simulate_cached(scenario: str, duration_s: float, seed: int, features_only: bool) -> pathlib.Path:
     """simulate() once per (scenario, duration, seed, features_only) per process, shared by the
     test modules (a rendered sequence costs ~20 s of CPU)."""
@@ -58,11 +72,13 @@ def simulate_cached(scenario: str, duration_s: float, seed: int, features_only: 
     if key not in _CACHE:
         name = f"{pathlib.Path(scenario).stem}_{duration_s:g}s_seed{seed}{'_feat' if features_only else ''}"
         keep = os.environ.get("VID_TEST_SEQ_CACHE")  # developer option: keep sequences between sessions
-        if keep:
+        if keep:  # reused only if made by the same simulator, scenario, seed and duration
             out = pathlib.Path(keep) / name
-            if not (out / "mav0" / "imu0" / "data.csv").exists():
+            stamp, want = out / "made_by.json", made_by(scenario, duration_s, seed, features_only)
+            if not stamp.exists() or json.loads(stamp.read_text()) != want:
                 shutil.rmtree(out, ignore_errors=True)
                 simulate(out, scenario, duration_s, seed, features_only)
+                stamp.write_text(json.dumps(want, indent=1))
             _CACHE[key] = out
         else:
             if _CACHE_DIR is None:

@@ -11,6 +11,7 @@ landed / airborne in summary.json (README "Flight phase"). Per-phase errors come
 import numpy as np
 import pytest
 
+from ratchets import ratchet, target, target_not_met
 from test_vid_run_helpers import REPO, first_timestamp_ns, run_and_score, simulate_cached, tum_rows
 from vid_eval.loaders import load_phases
 
@@ -79,22 +80,44 @@ def test_pose_and_airborne_force_are_followed_without_rejections(tmp_path_factor
     assert air["world"]["rmse_mps2"]["norm"] <= 0.25, air["world"]
 
 
-# Issue 29 acceptance not met (measured on this preset, seeds 1-3 and images): the landed force
-# error after 1 s on the ground is 0.10-0.12 m/s^2 RMSE against 0.1 at feature level and up to
-# 0.18 on rendered images (the 2 s rests leave ~1 s of it, next to the idle / spin-up and
-# spin-down ramps the rate model trails), and the attitude error
-# reaches up to 2.2 deg on one run (the tilt of the static initialization on the ground, from
-# the accelerometer bias). README "Flight phase".
-@pytest.mark.xfail(strict=True, reason="issue 29: landed force error 0.10-0.18 m/s^2, attitude up to 2.2 deg")
-def test_landed_force_and_attitude_meet_the_issue(tmp_path_factory):
+# Issue 29 acceptance not met: the landed force error after 1 s on the ground is above 0.1 m/s^2
+# RMSE (the 2 s rests leave ~1 s of it, next to the idle / spin-up and spin-down ramps the rate
+# model trails), and the attitude error reaches 2.2 deg on one run (the tilt of the static
+# initialization on the ground, from the accelerometer bias). README "Flight phase".
+# Measured at 182d56e, per run (seeds 1 / 2 / 3 feature level, seed 1 images, and seeds 4 / 5
+# feature level for the spread): landed force RMSE 0.103 / 0.108 / 0.106 / 0.105 / 0.101 /
+# 0.111 m/s^2 (worst of the test's runs 0.108; mean + 3 sd = 0.117 is tighter than 1.2 x);
+# attitude error max 1.32 / 2.22 / 0.82 / 1.23 / 1.28 / 1.51 deg (worst 2.22; 1.2 x = 2.67 is
+# tighter than mean + 3 sd = 2.79).
+LANDED_WORST, LANDED_RATCHET = 0.108, 0.117
+ATT_WORST, ATT_RATCHET = 2.22, 2.67
+
+
+@pytest.fixture(scope="module")
+def worst_over_cases(tmp_path_factory):
+    """(worst landed force RMSE after 1 s on the ground, worst attitude error) over CASES."""
     worst_landed, worst_att = 0.0, 0.0
     for seed, images in CASES:
         r = run(tmp_path_factory, seed, images)
-        for iv in r["force"]["phases"]["landed_after"]["intervals"]:
+        intervals = r["force"]["phases"]["landed_after"]["intervals"]
+        assert len(intervals) == 2, intervals  # before lift-off and after touchdown
+        for iv in intervals:
             worst_landed = max(worst_landed, iv["error_mps2"]["rmse"])
         worst_att = max(worst_att, r["att_err_max_deg"])
-    assert worst_landed <= 0.1, f"landed force error after 1 s: RMSE {worst_landed:.3f} m/s^2"
-    assert worst_att <= 1.5, f"attitude error {worst_att:.2f} deg"
+    return worst_landed, worst_att
+
+
+def test_landed_force_and_attitude_ratchet(worst_over_cases):
+    landed, att = worst_over_cases
+    ratchet("landed force RMSE after 1 s, worst run [m/s^2]", landed, LANDED_RATCHET, LANDED_WORST)
+    ratchet("attitude error max, worst run [deg]", att, ATT_RATCHET, ATT_WORST)
+
+
+@target_not_met("issue 29: landed force error 0.10-0.11 m/s^2 > 0.1, attitude up to 2.2 deg > 1.5")
+def test_landed_force_and_attitude_meet_the_issue(worst_over_cases):
+    landed, att = worst_over_cases
+    target("landed force RMSE after 1 s, worst run [m/s^2]", landed, 0.1)
+    target("attitude error max, worst run [deg]", att, 1.5)
 
 
 def test_live_path_keeps_the_whole_recording(tmp_path_factory):

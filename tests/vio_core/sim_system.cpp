@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -33,6 +34,29 @@ void set_noise_free_params(EstimatorParams& p) {
   p.pixel_noise_px = 0.01;
 }
 
+namespace {
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + path.string());
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// FNV-1a 64: a stable fingerprint of a file's bytes (not security, only "did it change").
+std::string fingerprint(const std::string& bytes) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ULL;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+constexpr const char* kMadeBy = "made_by.txt";
+
+}  // namespace
+
 std::filesystem::path ensure_sim_dataset(const std::string& preset, int seed, double duration_s,
                                          bool noise_free) {
   std::string dur;  // built stepwise: GCC 12 warns (-Wrestrict) on "_" + std::to_string(..)
@@ -43,33 +67,47 @@ std::filesystem::path ensure_sim_dataset(const std::string& preset, int seed, do
   }
   const std::filesystem::path out = std::filesystem::path(VID_BINARY_DIR) / "vio_core_sim" /
                                     (preset + dur + (noise_free ? "_exact" : "") + "_seed" + std::to_string(seed));
-  if (std::filesystem::exists(out / "mav0" / "feat0" / "data.csv")) return out;
+  const std::filesystem::path scenario_src = std::filesystem::path(VID_SOURCE_DIR) / "config" / "sim" / (preset + ".yaml");
+  const std::filesystem::path sim = std::filesystem::path(VID_BINARY_DIR) / "bin" / "vid_sim";
+  std::string yaml = read_file(scenario_src);
+  if (noise_free) {
+    // The preset with every sensor noise off (its top-level `noise: true` switched off).
+    const auto at = yaml.find("\nnoise: true");
+    if (at == std::string::npos) throw std::runtime_error("no 'noise: true' line in " + scenario_src.string());
+    yaml.replace(at, 12, "\nnoise: false");
+  }
+  // What made the folder (docs/testing.md "Cached inputs"): the simulator binary, the scenario
+  // as simulated, seed and duration. A folder made by anything else is regenerated, never reused.
+  std::string key = "vid_sim " + fingerprint(read_file(sim)) + "\nscenario " + scenario_src.string() + " " +
+                    fingerprint(yaml) + "\nseed " + std::to_string(seed) + "\nduration_s " +
+                    std::to_string(duration_s) + "\nnoise_free " + (noise_free ? "1" : "0") + "\n";
+  if (std::filesystem::exists(out / "mav0" / "feat0" / "data.csv")) {
+    std::string made_by;
+    if (std::filesystem::exists(out / kMadeBy)) made_by = read_file(out / kMadeBy);
+    if (made_by == key) return out;
+    std::printf("[cache] %s was made by another simulator or scenario: regenerating\n", out.c_str());
+    // Move it aside first: a parallel test that already checked it never sees a half-removed folder.
+    const std::filesystem::path stale = out.string() + ".stale" + std::to_string(::getpid());
+    std::error_code ec;
+    std::filesystem::rename(out, stale, ec);
+    std::filesystem::remove_all(stale, ec);
+  }
   // Generate next to the target and rename, so that tests running in parallel never see a
   // half-written folder (the loser of the race removes its copy).
   const std::filesystem::path tmp = out.string() + ".tmp" + std::to_string(::getpid());
   std::filesystem::remove_all(tmp);
   std::filesystem::create_directories(tmp);
-  std::filesystem::path scenario = std::filesystem::path(VID_SOURCE_DIR) / "config" / "sim" / (preset + ".yaml");
-  if (noise_free) {
-    // The preset with every sensor noise off (its top-level `noise: true` switched off).
-    std::ifstream in(scenario);
-    std::stringstream text;
-    text << in.rdbuf();
-    std::string yaml = text.str();
-    const auto at = yaml.find("\nnoise: true");
-    if (at == std::string::npos) throw std::runtime_error("no 'noise: true' line in " + scenario.string());
-    yaml.replace(at, 12, "\nnoise: false");
-    scenario = tmp.string() + ".yaml";
-    std::ofstream(scenario) << yaml;
-  }
-  std::string cmd = std::string(VID_BINARY_DIR) + "/bin/vid_sim --scenario " + scenario.string() + " --out " +
+  const std::filesystem::path scenario = tmp.string() + ".yaml";
+  std::ofstream(scenario) << yaml;  // the scenario's relative paths: none in the presets used here
+  std::string cmd = sim.string() + " --scenario " + (noise_free ? scenario : scenario_src).string() + " --out " +
                     tmp.string() + " --seed " + std::to_string(seed) + " --features-only --quiet";
   if (duration_s > 0) cmd += " --duration " + std::to_string(duration_s);
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("failed: " + cmd);
+  std::ofstream(tmp / kMadeBy) << key;
   std::error_code ec;
   std::filesystem::rename(tmp, out, ec);
   if (ec) std::filesystem::remove_all(tmp);
-  if (noise_free) std::filesystem::remove(tmp.string() + ".yaml");
+  std::filesystem::remove(scenario);
   if (!std::filesystem::exists(out / "mav0" / "feat0" / "data.csv")) {
     throw std::runtime_error("no feature-level dataset at " + out.string());
   }

@@ -30,7 +30,8 @@ struct SimMetrics {
   double mean_frame_ms = 0.0;
 };
 
-/// Generate (vid_sim --features-only) unless the folder already has feat0/data.csv;
+/// Generate (vid_sim --features-only) unless the folder was made by this vid_sim binary from this
+/// scenario text, seed and duration (its made_by.txt; otherwise it is regenerated);
 /// duration_s > 0 shortens the scenario.
 /// noise_free: the preset with `noise: false` (exact sensors).
 std::filesystem::path ensure_sim_dataset(const std::string& preset, int seed, double duration_s = 0.0,

@@ -7,11 +7,14 @@
 
 #include <cstdio>
 
+#include "ratchet.h"
 #include "sim_system.h"
 
 namespace {
 using namespace vid;
 using namespace vid::test;
+
+constexpr double kMonoAte = 0.021;  // m, measured (see the test)
 
 SimMetrics run_mono(const std::filesystem::path& folder, double max_parallax_px) {
   io::ReaderOptions opt;
@@ -31,7 +34,9 @@ TEST(MonoStill, HoverBeforeFlightDoesNotDrift) {
   const auto folder = ensure_sim_dataset("euroc_like_short", 1);
   const SimMetrics with = run_mono(folder, EstimatorParams{}.zero_velocity_max_parallax_px);
   EXPECT_EQ(with.status, "ok");
-  EXPECT_LE(with.ate_posyaw_m, 0.15);
+  // Measured 0.0209 m (182d56e, seed 1; other seeds not measured, so 1.2 x the test's own value);
+  // the earlier 0.15 let a 7x regression pass.
+  expect_ratchet("euroc_like_short mono ATE [m]", with.ate_posyaw_m, 1.2 * kMonoAte, kMonoAte);
   // The scenario is the hard case: without the update the same run is lost.
   const SimMetrics without = run_mono(folder, 0.0);
   EXPECT_GT(without.ate_posyaw_m, 10.0 * with.ate_posyaw_m);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "consistency.h"
+#include "ratchet.h"
 #include "run_helpers.h"
 
 namespace {
@@ -52,7 +53,7 @@ NeesCurves monte_carlo(PropagationMode mode, int runs, double duration) {
 }
 
 struct Fractions {
-  double inside = 0, below_upper = 0;
+  double inside = 0, below_upper = 0, mean = 0;  // mean: the time-average of the NEES after 5 s
 };
 
 Fractions fractions(const std::vector<double>& t, const std::vector<double>& v, double lo, double hi) {
@@ -63,9 +64,11 @@ Fractions fractions(const std::vector<double>& t, const std::vector<double>& v, 
     ++n;
     f.inside += (v[i] >= lo && v[i] <= hi);
     f.below_upper += (v[i] <= hi);
+    f.mean += v[i];
   }
   f.inside /= n;
   f.below_upper /= n;
+  f.mean /= n;
   return f;
 }
 
@@ -84,10 +87,16 @@ void run_mode(PropagationMode mode) {
   EXPECT_GE(p.inside, 0.9);
   if (mode == PropagationMode::kDynamics) {
     const Fractions F = fractions(c.t, c.F, lo, hi);
-    std::printf(", F %.3f (not above the band: %.3f)", F.inside, F.below_upper);
-    // F_ext is modelled as a random walk while the true force is smooth: the filter may be
-    // conservative (NEES below the band) but must not be overconfident.
+    std::printf(", F %.3f (not above the band: %.3f)\n", F.inside, F.below_upper);
+    // F_ext is modelled as a random walk while the true force is smooth: the filter is
+    // conservative (NEES below the band, in it ~1-30 % of the time) and must not be
+    // overconfident. One-sided, a force sigma grown 2x passed; so the time-mean of the F NEES
+    // is held two-sided at today's value: measured (182d56e) 1.54 over 10 runs (CI), 1.49 over
+    // 20, where 3 is consistent; band today / 1.2 .. today x 1.2 (a 10 % larger or smaller
+    // sigma moves the mean by ~20 %; the 10- vs 20-run values differ by 3 %).
     EXPECT_GE(F.below_upper, 0.9);
+    const double F_mean = runs == 10 ? 1.54 : 1.49;
+    expect_in_band("F NEES time-mean after 5 s", F.mean, F_mean / 1.2, F_mean * 1.2);
   }
   std::printf("\n");
 }
