@@ -148,6 +148,20 @@ VehicleParams load_vehicle_yaml(const std::filesystem::path& path) {
     v.rotor_thrust_coefficients = y.get_doubles("rotor_thrust_coefficients");
     for (double k : v.rotor_thrust_coefficients) require_positive(y, "rotor_thrust_coefficients", k);
   }
+  if (y.has("linear_drag")) {
+    const std::vector<double> d = y.get_doubles("linear_drag");
+    if (d.size() != 3) y.fail("linear_drag", "needs 3 values [D_x, D_y, D_z] (1/s), got " + std::to_string(d.size()));
+    for (double k : d) require_non_negative(y, "linear_drag", k);
+    v.linear_drag = Eigen::Vector3d(d[0], d[1], d[2]);
+  }
+  if (y.has("thrust_axis")) {
+    const std::vector<double> a = y.get_doubles("thrust_axis");
+    if (a.size() != 3) y.fail("thrust_axis", "needs 3 values (a direction in the IMU frame), got " + std::to_string(a.size()));
+    const Eigen::Vector3d axis(a[0], a[1], a[2]);
+    if (!(axis.norm() > 0.0) || !(axis.z() > 0.0))
+      y.fail("thrust_axis", "must point up in the IMU frame (z > 0); a z-down IMU needs its frame converted");
+    v.thrust_axis_I = axis.normalized();
+  }
   y.check_unknown();
   return v;
 }
@@ -204,6 +218,14 @@ std::string to_yaml(const VehicleParams& vehicle) {
      << "gravity: " << format_double(vehicle.gravity) << "  # magnitude, m/s^2\n";
   if (!vehicle.rotor_thrust_coefficients.empty()) {
     os << "rotor_thrust_coefficients: " << format_list(vehicle.rotor_thrust_coefficients) << "  # N / unit^2\n";
+  }
+  if (!vehicle.linear_drag.isZero(0.0)) {
+    os << "linear_drag: " << format_list({vehicle.linear_drag.x(), vehicle.linear_drag.y(), vehicle.linear_drag.z()})
+       << "  # 1/s, mass-normalized body drag F_I = -diag(D) v_I\n";
+  }
+  if (vehicle.thrust_axis_I != Eigen::Vector3d::UnitZ()) {
+    const Eigen::Vector3d& a = vehicle.thrust_axis_I;
+    os << "thrust_axis: " << format_list({a.x(), a.y(), a.z()}) << "  # unit vector in the IMU frame\n";
   }
   return os.str();
 }

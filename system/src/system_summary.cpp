@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "vid_system/system.h"
 #include "vid_version/version.h"
 
@@ -39,6 +41,41 @@ void add_counters(PipelineCounters& a, const PipelineCounters& b) {
   a.airborne_s += b.airborne_s;
   a.flight_phase_events.insert(a.flight_phase_events.end(), b.flight_phase_events.begin(),
                                b.flight_phase_events.end());
+  a.accel_nis_sum += b.accel_nis_sum;
+  a.accel_nis_count += b.accel_nis_count;
+  a.visual_chi2_sum += b.visual_chi2_sum;
+  a.visual_dof_sum += b.visual_dof_sum;
+}
+
+nlohmann::json noise_fit_report(const PipelineCounters& c) {
+  // A consistent filter's normalized innovations average 1 (per accelerometer axis; per degree
+  // of freedom of the features used, a little below 1 as the 95 % gate cuts the tail). Beyond a
+  // factor of 3 either way the noise settings do not describe the data: say which key to change.
+  constexpr double kFactor = 3.0;
+  nlohmann::json j;
+  nlohmann::json warnings = nlohmann::json::array();
+  if (c.accel_nis_count > 0) {
+    const Eigen::Vector3d nis = c.accel_nis_sum / static_cast<double>(c.accel_nis_count);
+    j["accel_nis_per_axis"] = {nis.x(), nis.y(), nis.z()};
+    j["accel_samples"] = c.accel_nis_count;
+    const char* axes = "xyz";
+    for (int i = 0; i < 3; ++i) {
+      if (nis(i) > kFactor || nis(i) < 1.0 / kFactor)
+        warnings.push_back(fmt::format("accelerometer innovations on the IMU {} axis average {:.2f} times their modeled "
+                                       "variance (1 fits): {} accel_noise_density (imu0/sensor.yaml) or thrust_noise_density",
+                                       axes[i], nis(i), nis(i) > 1.0 ? "raise" : "lower"));
+    }
+  }
+  if (c.visual_dof_sum > 0) {
+    const double per_dof = c.visual_chi2_sum / static_cast<double>(c.visual_dof_sum);
+    j["visual_chi2_per_dof"] = per_dof;
+    j["visual_dof"] = c.visual_dof_sum;
+    if (per_dof > kFactor || per_dof < 1.0 / kFactor)
+      warnings.push_back(fmt::format("visual feature residuals average {:.2f} times their modeled variance per degree of "
+                                     "freedom (1 fits): {} pixel_noise_px", per_dof, per_dof > 1.0 ? "raise" : "lower"));
+  }
+  j["warnings"] = warnings;
+  return j;
 }
 
 nlohmann::json flight_phase_report(const PipelineCounters& c, FlightPhase now) {
@@ -169,6 +206,7 @@ nlohmann::json System::summary() const {
                  {"starved_s", c.starved_s},
                  {"max_chi2_rejected_fraction", c.max_chi2_rejected_fraction}};
   s["accel"] = accel_report(c);
+  s["noise_fit"] = noise_fit_report(c);
   if (dynamics()) s["flight_phase"] = flight_phase_report(c, pipeline_->flight_phase());
   s["timing"] = stage_times_.to_json();  // frontend + estimator stages; excludes image decoding
   s["timing"]["image_decoding"] = decode_ms_.to_json();

@@ -95,7 +95,7 @@ void expect_blocks_near(const MatrixXd& A, const MatrixXd& N, double rel) {
 }
 
 void check_mode(PropagationMode mode, double dt, ForceFrame frame = ForceFrame::kBody,
-                bool rate = false, bool thrust_scale = false) {
+                bool rate = false, bool thrust_scale = false, const Vector3d& drag = Vector3d::Zero()) {
   const bool dyn = mode == PropagationMode::kDynamics;
   const ImuLayout l{dyn, dyn && rate, dyn && thrust_scale};
   const int d = l.dim();
@@ -105,27 +105,27 @@ void check_mode(PropagationMode mode, double dt, ForceFrame frame = ForceFrame::
   if (!l.force_rate) x.F_dot.setZero();
   if (!l.thrust_scale) x.thrust_scale = 1.0;
   const ImuInterval u = sample_interval(dyn, dt);
-  const ImuState y = propagate_mean(x, u, mode, g, {}, frame);
+  const ImuState y = propagate_mean(x, u, mode, g, {}, frame, drag);
   ImuFej fej;
   fej.T_WI = x.T_WI;
   fej.v_WI = x.v_WI;
   MatrixXd Phi, G;
-  propagation_jacobians(x, fej, y, u, mode, g, &Phi, &G, frame, rate, thrust_scale);
+  propagation_jacobians(x, fej, y, u, mode, g, &Phi, &G, frame, rate, thrust_scale, drag);
 
   const double h = 1e-6;
   MatrixXd Phi_num(d, d), G_num(d, nn);
   for (int i = 0; i < d; ++i) {
     VectorXd e = VectorXd::Zero(d);
     e(i) = h;
-    const ImuState yp = propagate_mean(perturb(x, e, l), u, mode, g, {}, frame);
-    const ImuState ym = propagate_mean(perturb(x, -e, l), u, mode, g, {}, frame);
+    const ImuState yp = propagate_mean(perturb(x, e, l), u, mode, g, {}, frame, drag);
+    const ImuState ym = propagate_mean(perturb(x, -e, l), u, mode, g, {}, frame, drag);
     Phi_num.col(i) = (difference(yp, y, l) - difference(ym, y, l)) / (2 * h);
   }
   for (int i = 0; i < nn; ++i) {
     VectorXd e = VectorXd::Zero(nn);
     e(i) = h;
-    const ImuState yp = propagate_mean(x, u, mode, g, noise_from(e, l), frame);
-    const ImuState ym = propagate_mean(x, u, mode, g, noise_from(-e, l), frame);
+    const ImuState yp = propagate_mean(x, u, mode, g, noise_from(e, l), frame, drag);
+    const ImuState ym = propagate_mean(x, u, mode, g, noise_from(-e, l), frame, drag);
     G_num.col(i) = (difference(yp, y, l) - difference(ym, y, l)) / (2 * h);
   }
   expect_blocks_near(Phi, Phi_num, 1e-6);
@@ -147,6 +147,28 @@ TEST(PropagationJacobians, ThrustScaleStateMatchesNumericBothFrames) {
   check_mode(PropagationMode::kDynamics, 0.0025, ForceFrame::kBody, false, true);
   check_mode(PropagationMode::kDynamics, 0.0025, ForceFrame::kWorld, true, true);
   check_mode(PropagationMode::kDynamics, 0.5, ForceFrame::kWorld, true, true);
+}
+// Linear body drag (docs/design.md §3): the v and theta columns gain -R D R^T and R([D u]x - D[u]x).
+TEST(PropagationJacobians, LinearDragMatchesNumericEveryForceModel) {
+  const Vector3d D(0.35, 0.4, 0.3);
+  check_mode(PropagationMode::kDynamics, 0.0025, ForceFrame::kBody, false, false, D);
+  check_mode(PropagationMode::kDynamics, 0.0025, ForceFrame::kWorld, true, false, D);
+  check_mode(PropagationMode::kDynamics, 0.01, ForceFrame::kWorld, true, true, D);
+  check_mode(PropagationMode::kDynamics, 0.5, ForceFrame::kBody, true, true, D);
+}
+TEST(PropagationMean, LinearDragDeceleratesAlongTheBodyAxes) {
+  // Thrust cancels gravity, no force, yawed 90 deg: a world-x velocity is body -y, so D_y acts.
+  ImuState x;
+  x.T_WI.q = so3::quat_exp(Vector3d(0, 0, M_PI / 2));
+  x.v_WI = Vector3d(2.0, 0, 0);
+  ImuInterval u;
+  u.dt = 0.01;
+  u.drive0 = u.drive1 = Vector3d(0, 0, 9.81);
+  const ImuState y = propagate_mean(x, u, PropagationMode::kDynamics, Vector3d(0, 0, -9.81), {},
+                                    ForceFrame::kWorld, Vector3d(0.1, 0.5, 0.2));
+  EXPECT_NEAR(y.v_WI.x(), 2.0 - 0.5 * 2.0 * 0.01, 1e-12);
+  EXPECT_NEAR(y.v_WI.y(), 0.0, 1e-12);
+  EXPECT_NEAR(y.T_WI.p.x(), 2.0 * 0.01 - 0.5 * 0.5 * 2.0 * 1e-4, 1e-12);
 }
 // Long intervals (gaps) exercise the non-small-angle branches.
 TEST(PropagationJacobians, LongIntervalEveryModel) {
@@ -210,6 +232,25 @@ void check_accel_jacobian(ForceFrame frame) {
 }
 
 TEST(AccelMeasurement, JacobianMatchesNumericBodyForce) { check_accel_jacobian(ForceFrame::kBody); }
+TEST(AccelMeasurement, DragJacobianMatchesNumeric) {
+  // h_drag = -D R^T v: only the theta and v columns.
+  const ImuState x = sample_state();
+  const ImuLayout l{true, false, false};
+  const Vector3d D(0.35, 0.4, 0.3), Tm(0, 0, 9.9);
+  const Vector3d h0 = predict_accel(x, Tm, ForceFrame::kWorld, D);
+  EXPECT_LT((h0 - predict_accel(x, Tm, ForceFrame::kWorld) - drag_in_body(x, D)).norm(), 1e-15);
+  MatrixXd H_num(3, l.dim());
+  for (int i = 0; i < l.dim(); ++i) {
+    VectorXd e = VectorXd::Zero(l.dim());
+    e(i) = 1e-6;
+    H_num.col(i) = (drag_in_body(perturb(x, e, l), D) - drag_in_body(perturb(x, -e, l), D)) / 2e-6;
+  }
+  const DragJacobian J = drag_jacobian(x, D);
+  MatrixXd H = MatrixXd::Zero(3, l.dim());
+  H.block<3, 3>(0, imu_idx::kTheta) = J.H_theta;
+  H.block<3, 3>(0, imu_idx::kV) = J.H_v;
+  EXPECT_LT((H - H_num).norm(), 1e-7 * H.norm()) << "analytic\n" << H << "\nnumeric\n" << H_num;
+}
 TEST(AccelMeasurement, JacobianMatchesNumericWorldForce) { check_accel_jacobian(ForceFrame::kWorld); }
 
 }  // namespace

@@ -215,8 +215,11 @@ TEST(EkfUpdate, SparseGenericUpdateMatchesDense) {
   EXPECT_EQ((s.P() - P_after).norm(), 0.0);
 }
 
-void check_accel_update(ForceFrame frame, bool rate, bool thrust_scale = false) {
+void check_accel_update(ForceFrame frame, bool rate, bool thrust_scale = false,
+                        const Vector3d& drag = Vector3d::Zero()) {
   FilterState s = make_state(true, frame, rate, thrust_scale);
+  s.set_linear_drag(drag);
+  s.imu().v_WI = Vector3d(1.5, -2.0, 0.4);
   for (int i = 0; i < 3; ++i) s.augment_clone();
   s.P() = random_spd(s.dim(), 13);
   const Vector3d Tm(0, 0, 9.7), a_m(0.2, -0.1, 9.9);
@@ -226,7 +229,10 @@ void check_accel_update(ForceFrame frame, bool rate, bool thrust_scale = false) 
   H.block<3, 3>(0, imu_idx::kBa).setIdentity();
   H.block<3, 3>(0, imu_idx::kF) = J.H_F;
   if (thrust_scale) H.col(s.layout().thrust_scale_index()) = Tm;  // d (s T_m) / d s
-  const VectorXd r = a_m - predict_accel(s.imu(), Tm, frame);
+  const DragJacobian Jd = drag_jacobian(s.imu(), drag);
+  H.block<3, 3>(0, imu_idx::kTheta) += Jd.H_theta;
+  H.block<3, 3>(0, imu_idx::kV) = Jd.H_v;
+  const VectorXd r = a_m - predict_accel(s.imu(), Tm, frame, drag);
   MatrixXd P_ref = s.P();
   VectorXd dx_ref;
   dense_update(P_ref, H, r, 0.04 * MatrixXd::Identity(3, 3), &dx_ref);
@@ -252,9 +258,11 @@ void check_accel_update(ForceFrame frame, bool rate, bool thrust_scale = false) 
   // k = chi2 / threshold: R_eff = k (H P H^T + R) - H P H^T, so its chi2 sits at the gate.
   const Vector3d a_bad = a_m + Vector3d(100, 0, 0);
   const AccelJacobian J1 = accel_jacobian(s.imu(), s.imu_fej().T_WI.q, frame);  // at the updated F
-  H.block<3, 3>(0, imu_idx::kTheta) = J1.H_theta;
+  const DragJacobian Jd1 = drag_jacobian(s.imu(), drag);
+  H.block<3, 3>(0, imu_idx::kTheta) = J1.H_theta + Jd1.H_theta;
+  H.block<3, 3>(0, imu_idx::kV) = Jd1.H_v;
   H.block<3, 3>(0, imu_idx::kF) = J1.H_F;
-  const VectorXd r_bad = a_bad - predict_accel(s.imu(), Tm, frame);
+  const VectorXd r_bad = a_bad - predict_accel(s.imu(), Tm, frame, drag);
   const MatrixXd HPHt = H * s.P() * H.transpose();
   const MatrixXd S = HPHt + 0.04 * MatrixXd::Identity(3, 3);
   const double k = r_bad.dot(S.ldlt().solve(r_bad)) / 11.345;
@@ -276,6 +284,11 @@ void check_accel_update(ForceFrame frame, bool rate, bool thrust_scale = false) 
 TEST(EkfUpdate, AccelUpdateMatchesDenseUpdate) { check_accel_update(ForceFrame::kBody, false); }
 TEST(EkfUpdate, AccelUpdateMatchesDenseUpdateWorldForceWithRate) {
   check_accel_update(ForceFrame::kWorld, true);
+}
+TEST(EkfUpdate, AccelUpdateWithDragMatchesDenseUpdate) {
+  const Vector3d D(0.35, 0.4, 0.3);
+  check_accel_update(ForceFrame::kBody, false, false, D);
+  check_accel_update(ForceFrame::kWorld, true, true, D);
 }
 TEST(EkfUpdate, AccelUpdateMatchesDenseUpdateWithThrustScale) {
   check_accel_update(ForceFrame::kBody, false, true);

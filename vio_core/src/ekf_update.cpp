@@ -3,6 +3,7 @@
 #include "vio_core/ekf_update.h"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "geometry/so3.h"
@@ -60,8 +61,10 @@ UpdateResult ekf_update(FilterState& state, const Eigen::MatrixXd& H, const Eige
   return ekf_update_columns(state, cols, H_cols, r, R, chi2_threshold);
 }
 
-Eigen::Vector3d predict_accel(const ImuState& x, const Eigen::Vector3d& T_m, ForceFrame frame) {
-  return x.thrust_scale * T_m + force_in_body(x, frame) + x.b_a;
+Eigen::Vector3d predict_accel(const ImuState& x, const Eigen::Vector3d& T_m, ForceFrame frame,
+                              const Eigen::Vector3d& linear_drag) {
+  const Eigen::Vector3d a = x.thrust_scale * T_m + force_in_body(x, frame) + x.b_a;
+  return linear_drag.isZero(0.0) ? a : Eigen::Vector3d(a + drag_in_body(x, linear_drag));
 }
 
 AccelJacobian accel_jacobian(const ImuState& x, const Eigen::Quaterniond& q_WI_lin, ForceFrame frame) {
@@ -78,6 +81,24 @@ AccelJacobian accel_jacobian(const ImuState& x, const Eigen::Quaterniond& q_WI_l
   return J;
 }
 
+DragJacobian drag_jacobian(const ImuState& x, const Eigen::Vector3d& linear_drag) {
+  // h_drag = -D u with u = R^T v and R = R_hat Exp(dtheta): u = u_hat + [u_hat]x dtheta.
+  const Eigen::DiagonalMatrix<double, 3> D(linear_drag);
+  const Eigen::Matrix3d R = x.T_WI.q.toRotationMatrix();
+  DragJacobian J;
+  J.H_v = -(D * R.transpose());
+  J.H_theta = -(D * so3::skew(R.transpose() * x.v_WI));
+  return J;
+}
+
+namespace {
+// P H^T of the drag's rows: the velocity and orientation columns of P.
+void add_drag_columns(const Eigen::MatrixXd& P, const DragJacobian& J, Eigen::MatrixXd* PHt) {
+  PHt->noalias() += P.middleCols<3>(imu_idx::kV) * J.H_v.transpose();
+  PHt->noalias() += P.middleCols<3>(imu_idx::kTheta) * J.H_theta.transpose();
+}
+}  // namespace
+
 UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
                           double noise_var, double chi2_threshold, AccelInnovation* info, bool downweight) {
   if (!state.with_force()) throw std::logic_error("accel_update needs the F_ext state (dynamics mode)");
@@ -87,11 +108,15 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   // H = [H_theta (world force only) | I at b_a | H_F at F_ext | T_m at s (if estimated)]:
   // P H^T from those columns of P, then S = H (P H^T) from the same rows.
   const int is = state.with_thrust_scale() ? state.layout().thrust_scale_index() : -1;
+  const std::optional<DragJacobian> drag =
+      state.with_drag() ? std::optional<DragJacobian>(drag_jacobian(state.imu(), state.linear_drag())) : std::nullopt;
+  const Eigen::Vector3d D = drag ? state.linear_drag() : Eigen::Vector3d::Zero();
   Eigen::Matrix3d S;
   if (state.force_frame() == ForceFrame::kBody) {
     // H_F = I, H_theta = 0.
     PHt = P.middleCols<3>(imu_idx::kBa) + P.middleCols<3>(imu_idx::kF);
     if (is >= 0) PHt.noalias() += P.col(is) * T_m.transpose();
+    if (drag) add_drag_columns(P, *drag, &PHt);
     S = PHt.middleRows<3>(imu_idx::kBa) + PHt.middleRows<3>(imu_idx::kF);
   } else {
     // World-frame force: H_theta = [R^T F_W]x, H_F = R^T, linearized at the first estimate of R
@@ -101,13 +126,18 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
     PHt.noalias() += P.middleCols<3>(imu_idx::kTheta) * J.H_theta.transpose();
     PHt.noalias() += P.middleCols<3>(imu_idx::kF) * J.H_F.transpose();
     if (is >= 0) PHt.noalias() += P.col(is) * T_m.transpose();
+    if (drag) add_drag_columns(P, *drag, &PHt);
     S = PHt.middleRows<3>(imu_idx::kBa) + J.H_theta * PHt.middleRows<3>(imu_idx::kTheta) +
         J.H_F * PHt.middleRows<3>(imu_idx::kF);
+  }
+  if (drag) {
+    S.noalias() += drag->H_theta * PHt.middleRows<3>(imu_idx::kTheta);
+    S.noalias() += drag->H_v * PHt.middleRows<3>(imu_idx::kV);
   }
   if (is >= 0) S.noalias() += T_m * PHt.row(is);
   S = 0.5 * (S + S.transpose()).eval();
   S.diagonal().array() += noise_var;
-  const Eigen::Vector3d r = a_m - predict_accel(state.imu(), T_m, state.force_frame());
+  const Eigen::Vector3d r = a_m - predict_accel(state.imu(), T_m, state.force_frame(), D);
   InnovationFactor<3> f;
   if (!f.compute(S, r)) return res;
   res.chi2 = f.chi2();
@@ -119,7 +149,9 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
     info->t_ns = state.time();
     info->w = R * r;
     info->S = R * S * R.transpose();
-    info->y = R * (a_m - state.imu().thrust_scale * T_m);
+    // The force state's own measurement: the drag the model predicts is not part of it.
+    info->y = drag ? Eigen::Vector3d(R * (a_m - state.imu().thrust_scale * T_m - drag_in_body(state.imu(), D)))
+                   : Eigen::Vector3d(R * (a_m - state.imu().thrust_scale * T_m));
     info->T = R * T_m;
     info->R_WI = state.imu().T_WI.q.toRotationMatrix();  // the estimate itself, in both force models
     info->dx_imu.setZero();

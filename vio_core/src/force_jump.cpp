@@ -14,8 +14,12 @@
 namespace vid {
 
 ForceJumpDetector::ForceJumpDetector(const EstimatorParams& p)
-    : threshold_(p.force_jump_threshold), split_sigma_(p.force_jump_split_sigma), max_window_(p.force_jump_window) {
+    : threshold_(p.force_jump_threshold),
+      split_sigma_(p.force_jump_split_sigma),
+      min_step_(p.force_jump_min_step),
+      max_window_(p.force_jump_window) {
   if (max_window_ < 2) throw std::invalid_argument("force_jump_window must be >= 2");
+  if (!(min_step_ >= 0.0)) throw std::invalid_argument("force_jump_min_step must be >= 0");
 }
 
 std::optional<AccelInnovation> ForceJumpDetector::push(const AccelInnovation& s) {
@@ -72,10 +76,14 @@ std::optional<ForceJump> ForceJumpDetector::test() const {
     const double z_old = u.dot(C_old) / std::sqrt(u.dot(SS_old * u));
     if (!(z_new >= split_sigma_ && z_old >= split_sigma_)) continue;
     if (l > best_stat) {
-      best_stat = l;
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();  // the step's size from the raw innovations
       for (int i = 0; i < n; ++i) mean += recent(i).w;
-      best = ForceJump{n, l, mean / n, recent(0).t_ns};
+      mean /= n;
+      // A step smaller than the floor is left to the force(-rate) random walk: on real sensors
+      // vibration and thrust-model error make such "steps" by the hundred (docs/real_sensors.md).
+      if (mean.norm() < min_step_) continue;
+      best_stat = l;
+      best = ForceJump{n, l, mean, recent(0).t_ns};
     }
   }
   return best;

@@ -16,6 +16,7 @@
 #include "vio_core/msckf/visual_update.h"
 #include "vio_core/propagation.h"
 #include "vio_core/thrust.h"
+#include "vio_core/force_output.h"
 
 namespace vid {
 namespace {
@@ -57,6 +58,14 @@ Pipeline::Pipeline(PipelineConfig config)
   if (config_.params.mode == PropagationMode::kDynamics && !(config_.vehicle.mass_kg > 0.0)) {
     throw std::invalid_argument("dynamics mode needs vehicle mass_kg > 0");
   }
+  if (!(config_.params.thrust_delay_s >= 0.0))
+    throw std::invalid_argument("thrust_delay_s must be >= 0, got " + std::to_string(config_.params.thrust_delay_s));
+  thrust_delay_ns_ = seconds_to_ns(config_.params.thrust_delay_s);
+  const Eigen::Vector3d& axis = config_.vehicle.thrust_axis_I;
+  if (!(std::abs(axis.norm() - 1.0) < 1e-9) || !(axis.z() > 0.0))
+    throw std::invalid_argument("vehicle thrust_axis must be a unit vector with a positive z component");
+  tilted_thrust_ = axis != Eigen::Vector3d::UnitZ();
+  if (config_.params.mode == PropagationMode::kDynamics) state_.set_linear_drag(config_.vehicle.linear_drag);
   if (config_.params.window_size < 2) throw std::invalid_argument("window_size must be >= 2");
   if (config_.params.smoother_lag_s < 0.0 || config_.params.smoother_clone_period_s < 0.0)
     throw std::invalid_argument("smoother_lag_s and smoother_clone_period_s must be >= 0");
@@ -74,16 +83,19 @@ void Pipeline::push(const Measurement& m) {
     imu_queue_.push_back(*imu);
   } else if (const auto* rotor = std::get_if<RotorSample>(&m)) {
     if (config_.params.mode == PropagationMode::kDynamics) {
-      thrust_.add(rotor->t_ns, collective_thrust(*rotor, config_.vehicle) / config_.vehicle.mass_kg);
+      thrust_.add(rotor->t_ns - thrust_delay_ns_, collective_thrust(*rotor, config_.vehicle) / config_.vehicle.mass_kg);
     }
   } else if (const auto* thrust = std::get_if<ThrustSample>(&m)) {
     if (config_.params.mode == PropagationMode::kDynamics) {
-      thrust_.add(thrust->t_ns, thrust->thrust_N / config_.vehicle.mass_kg);
+      thrust_.add(thrust->t_ns - thrust_delay_ns_, thrust->thrust_N / config_.vehicle.mass_kg);
     }
   } else if (const auto* frame = std::get_if<FeatureFrame>(&m)) {
     frame_queue_.push_back(*frame);
   } else if (const auto* gt = std::get_if<GroundTruthSample>(&m)) {
-    if (config_.params.init_mode == InitMode::kGroundTruth) last_gt_ = *gt;
+    if (config_.params.init_mode == InitMode::kGroundTruth && status_ == FilterStatus::kWaitingForInit) {
+      init_gt_.push_back(*gt);
+      while (gt->t_ns - init_gt_.front().t_ns > 1'000'000'000) init_gt_.pop_front();
+    }
   } else if (const auto* force = std::get_if<ForceSample>(&m)) {
     if (config_.params.init_mode == InitMode::kGroundTruth) last_force_W_ = force->f_W_N;
   }
@@ -100,11 +112,13 @@ void Pipeline::finish() {
 }
 
 namespace {
-// Samples less than 50 ms apart share a span.
+// Samples less than 50 ms apart share a span; a span never runs backwards (first <= last) even
+// if a caller reports an older sample after a newer one.
 void add_to_spans(std::vector<TimeSpan>& spans, TimeNs t) {
   constexpr TimeNs kJoinNs = 50'000'000;
-  if (!spans.empty() && t - spans.back().last_ns <= kJoinNs) {
-    spans.back().last_ns = t;
+  if (!spans.empty() && t - spans.back().last_ns <= kJoinNs && spans.back().first_ns - t <= kJoinNs) {
+    spans.back().first_ns = std::min(spans.back().first_ns, t);
+    spans.back().last_ns = std::max(spans.back().last_ns, t);
   } else {
     spans.push_back(TimeSpan{t, t});
   }
@@ -129,13 +143,25 @@ void Pipeline::record_past_gate(TimeNs t) {
   }
 }
 
+void Pipeline::add_noise_fit(const AccelInnovation& info) {
+  // info holds the innovation in the force frame; the fit is per IMU axis.
+  const bool world = state_.force_frame() == ForceFrame::kWorld;
+  const Eigen::Vector3d r_I = world ? Eigen::Vector3d(info.R_WI.transpose() * info.w) : info.w;
+  const Eigen::Matrix3d S_I = world ? Eigen::Matrix3d(info.R_WI.transpose() * info.S * info.R_WI) : info.S;
+  if (!(S_I.diagonal().minCoeff() > 0.0)) return;
+  counters_.accel_nis_sum += r_I.cwiseAbs2().cwiseQuotient(S_I.diagonal());
+  ++counters_.accel_nis_count;
+}
+
 void Pipeline::accel_step(const ImuInput& in) {
   const EstimatorParams& p = config_.params;
   const double noise_var = p.accel_noise_density * p.accel_noise_density * p.imu_rate_hz;
   const double thr = p.accel_chi2_gating ? p.accel_chi2_multiplier * chi2_quantile(0.99, 3) : 0.0;
   const bool down = p.accel_gate_downweight;
+  AccelInnovation info;
   if (!p.force_jump_detection) {
-    const UpdateResult u = accel_update(state_, in.accel, in.T_m, noise_var, thr, nullptr, down);
+    const UpdateResult u = accel_update(state_, in.accel, in.T_m, noise_var, thr, &info, down);
+    add_noise_fit(info);
     if (u.applied && !u.downweighted) {
       ++counters_.accel_updates;
     } else {
@@ -143,8 +169,8 @@ void Pipeline::accel_step(const ImuInput& in) {
     }
     return;
   }
-  AccelInnovation info;
   const UpdateResult u = accel_update(state_, in.accel, in.T_m, noise_var, thr, &info, down);
+  add_noise_fit(info);
   if (u.applied && !u.downweighted) ++counters_.accel_updates;
   // A sample past the gate (rejected or down-weighted) stays in the detector's window: if a
   // jump uses it, its correction is undone and it counts at full weight in the jump's estimate;
@@ -157,7 +183,8 @@ void Pipeline::accel_step(const ImuInput& in) {
     window.push_back(jumps_.recent(i));
     if (window.back().gated) ++counters_.accel_used_in_jumps;
   }
-  for (int i = jump->n; i < jumps_.size(); ++i)
+  // Older than the jump's window: oldest first (recent(0) is the newest), so spans grow forward.
+  for (int i = jumps_.size() - 1; i >= jump->n; --i)
     if (jumps_.recent(i).gated) record_past_gate(jumps_.recent(i).t_ns);
   jumps_.clear();
   apply_force_jump(state_, window, *jump, noise_var, p.init_sigma_force_rate);
@@ -187,10 +214,10 @@ void Pipeline::drain(bool force) {
     if (!force && stream_time_ - s.t_ns < hold_ns) break;  // a frame that precedes it may still come
     ImuInput in{s.t_ns, s.gyro_I, s.accel_I, Eigen::Vector3d::Zero(), false};
     if (dyn) {
-      const bool ready = thrust_.covers(s.t_ns) || force || stream_time_ - s.t_ns > gap_ns;
+      const bool ready = thrust_.covers(s.t_ns) || force || stream_time_ - s.t_ns > gap_ns + thrust_delay_ns_;
       if (!ready) break;
       const ThrustQuery q = thrust_.at(s.t_ns);
-      in.T_m = q.T_m;
+      in.T_m = tilted_thrust_ ? Eigen::Vector3d(config_.vehicle.thrust_axis_I * q.T_m.z()) : q.T_m;
       in.thrust_held = q.held || !q.valid;
       thrust_.prune_before(s.t_ns);
     }
@@ -234,6 +261,31 @@ Pipeline::ImuInput Pipeline::interpolate(const ImuInput& a, const ImuInput& b, T
   return r;
 }
 
+std::optional<GroundTruthSample> Pipeline::groundtruth_at(TimeNs t) const {
+  // The IMU sample is processed after the ground truth that follows it has arrived (the frame
+  // hold), so the newest row is often past t: interpolate between the two that bracket t.
+  for (std::size_t i = 1; i < init_gt_.size(); ++i) {
+    const GroundTruthSample& a = init_gt_[i - 1];
+    const GroundTruthSample& b = init_gt_[i];
+    if (!(a.t_ns <= t && t <= b.t_ns)) continue;
+    if (b.t_ns - a.t_ns > kGtInitToleranceNs) break;  // a gap in the ground truth
+    const double w = b.t_ns == a.t_ns ? 1.0 : static_cast<double>(t - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns);
+    GroundTruthSample g = b;
+    g.t_ns = t;
+    g.T_WI.p = (1.0 - w) * a.T_WI.p + w * b.T_WI.p;
+    g.T_WI.q = a.T_WI.q.slerp(w, b.T_WI.q);
+    g.v_WI = (1.0 - w) * a.v_WI + w * b.v_WI;
+    g.b_g = (1.0 - w) * a.b_g + w * b.b_g;
+    g.b_a = (1.0 - w) * a.b_a + w * b.b_a;
+    return g;
+  }
+  // No bracket (the row of t's own time is read after the IMU sample): the newest earlier row
+  // within the tolerance, at its own time; the caller propagates it to t with the IMU.
+  if (!init_gt_.empty() && init_gt_.back().t_ns <= t && t - init_gt_.back().t_ns <= kGtInitToleranceNs)
+    return init_gt_.back();
+  return std::nullopt;
+}
+
 void Pipeline::process_imu(const ImuInput& in) {
   ++counters_.imu_samples;
   const EstimatorParams& p = config_.params;
@@ -247,13 +299,21 @@ void Pipeline::process_imu(const ImuInput& in) {
       ++counters_.frames_skipped;
     }
     if (p.init_mode == InitMode::kGroundTruth) {
-      if (last_gt_ && std::llabs(last_gt_->t_ns - in.t) <= kGtInitToleranceNs) {
-        ImuState x = state_from_groundtruth(*last_gt_);
+      if (const std::optional<GroundTruthSample> gt = groundtruth_at(in.t)) {
+        ImuState x = state_from_groundtruth(*gt);
         if (last_force_W_ && config_.vehicle.mass_kg > 0.0) {
           set_force_from_body(x, p.force_frame, x.T_WI.q.conjugate() * (*last_force_W_ / config_.vehicle.mass_kg));
         }
-        // Ground truth is taken at its own time; the small offset to t_in is ignored.
-        initialize(in.t, x, initial_covariance(p, x.T_WI.q));
+        initialize(gt->t_ns, x, initial_covariance(p, x.T_WI.q));
+        if (gt->t_ns < in.t) {
+          // Start at the row's own time and propagate to this sample (its rates held back over
+          // the few ms): taking the row as the state at t would be one IMU period late.
+          ImuInput start = in;
+          start.t = gt->t_ns;
+          last_input_ = start;
+          process_imu_initialized(in);
+          return;
+        }
       }
     } else if (auto r = initializer_.add(in.t, in.gyro, in.accel, in.T_m)) {
       initialize(r->t_ns, r->x, r->P);
@@ -262,6 +322,11 @@ void Pipeline::process_imu(const ImuInput& in) {
     if (status_ == FilterStatus::kOk) emit(in.t);
     return;
   }
+  process_imu_initialized(in);
+}
+
+void Pipeline::process_imu_initialized(const ImuInput& in) {
+  const EstimatorParams& p = config_.params;
   if (status_ == FilterStatus::kDiverged) return;
   if (!last_input_) {  // initialized explicitly: this sample starts the propagation
     last_input_ = in;
@@ -427,6 +492,8 @@ void Pipeline::process_frame(const FeatureFrame& f, TimeNs stamp, const Eigen::V
     counters_.features_used += sys.features_used;
     counters_.features_rejected += sys.features_rejected_chi2 + sys.features_rejected_triangulation;
     counters_.features_rejected_chi2 += sys.features_rejected_chi2;
+    counters_.visual_chi2_sum += sys.chi2_sum;
+    counters_.visual_dof_sum += sys.dof_sum;
     counters_.features_too_short += sys.features_too_short;
     if (sys.H.rows() > 0) {
       const Eigen::MatrixXd R =
@@ -524,25 +591,11 @@ void Pipeline::emit(TimeNs t) {
   o.cov_F_I.setZero();
   o.cov_F_W.setZero();
   if (state_.with_force()) {
-    // Force in the other frame: F_W = R F_I or F_I = R^T F_W with R = R_hat Exp(dtheta), so
-    // its covariance takes the orientation error along (J = [d/dtheta, d/dF]).
-    const ForceFrame frame = state_.force_frame();
-    o.F_ext_I = force_in_body(o.x, frame);
-    o.F_ext_W = force_in_world(o.x, frame);
-    const Eigen::Matrix3d R = o.x.T_WI.q.toRotationMatrix();
-    Eigen::Matrix<double, 3, 6> J;
-    if (frame == ForceFrame::kBody) {
-      J << -R * so3::skew(o.F_ext_I), R;
-    } else {
-      J << so3::skew(o.F_ext_I), R.transpose();
-    }
-    Eigen::Matrix<double, 6, 6> P_tf;
-    P_tf << state_.P().block<3, 3>(imu_idx::kTheta, imu_idx::kTheta), state_.P().block<3, 3>(imu_idx::kTheta, imu_idx::kF),
-        state_.P().block<3, 3>(imu_idx::kF, imu_idx::kTheta), state_.P().block<3, 3>(imu_idx::kF, imu_idx::kF);
-    const Eigen::Matrix3d P_F = state_.P().block<3, 3>(imu_idx::kF, imu_idx::kF);
-    const Eigen::Matrix3d P_other = J * P_tf * J.transpose();
-    o.cov_F_I = frame == ForceFrame::kBody ? P_F : P_other;
-    o.cov_F_W = frame == ForceFrame::kWorld ? P_F : P_other;
+    const ForceEstimate f = force_output(state_);
+    o.F_ext_I = f.F_I;
+    o.F_ext_W = f.F_W;
+    o.cov_F_I = f.cov_F_I;
+    o.cov_F_W = f.cov_F_W;
   }
   if (state_.with_thrust_scale()) {
     const int is = state_.layout().thrust_scale_index();

@@ -13,6 +13,10 @@
 
 namespace vid {
 
+Eigen::Vector3d drag_in_body(const ImuState& x, const Eigen::Vector3d& D) {
+  return -D.cwiseProduct(x.T_WI.q.conjugate() * x.v_WI);
+}
+
 Eigen::Vector3d force_in_body(const ImuState& x, ForceFrame frame) {
   return frame == ForceFrame::kBody ? x.F_ext : Eigen::Vector3d(x.T_WI.q.conjugate() * x.F_ext);
 }

@@ -50,6 +50,12 @@ struct VehicleParams {
   double mass_kg = 1.0;
   double gravity = 9.81;
   std::vector<double> rotor_thrust_coefficients;  ///< k_i [N / unit^2], T_i = k_i n_i^2
+  /// Mass-normalized linear body drag D [1/s]: the rotors' drag F_I = -diag(D) v_I that the
+  /// dynamics model predicts (docs/design.md §3 "Rotor drag"); zero = no drag model.
+  Eigen::Vector3d linear_drag = Eigen::Vector3d::Zero();
+  /// Direction of the collective thrust in I (unit vector): a real thrust axis sits 1-2 deg off
+  /// the IMU's z axis (mounting, frame flex).
+  Eigen::Vector3d thrust_axis_I = Eigen::Vector3d::UnitZ();
 };
 
 }  // namespace vid

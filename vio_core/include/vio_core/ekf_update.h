@@ -2,8 +2,9 @@
 /// @file ekf_update.h
 /// @brief EKF measurement updates on FilterState: a generic update (H, r, R) that exploits
 /// H's column sparsity, and the accelerometer update of dynamics mode
-/// (a_m = s T_m + F_ext + b_a + n_a; H touches only the b_a and F_ext columns, and the thrust
-/// scale s when it is estimated, O(n^2)).
+/// (a_m = s T_m + F_ext + b_a + n_a, plus the body drag -D R^T v when the state has one; H touches
+/// only the b_a and F_ext columns (with drag: v and theta), and the thrust scale s when it is
+/// estimated, O(n^2)).
 
 #include <Eigen/Core>
 #include <vector>
@@ -34,8 +35,17 @@ UpdateResult ekf_update_columns(FilterState& state, const std::vector<int>& cols
 
 /// @brief Predicted accelerometer reading of dynamics mode (seed eq. 58): s T_m + F_I + b_a, with
 /// F_I = R_WI^T F_W in the world-frame force model and s = x.thrust_scale (1 when not estimated).
+/// A non-zero linear_drag D adds the body drag -diag(D) R_WI^T v_WI (docs/design.md §3).
 Eigen::Vector3d predict_accel(const ImuState& x, const Eigen::Vector3d& T_m,
-                              ForceFrame frame = ForceFrame::kBody);
+                              ForceFrame frame = ForceFrame::kBody,
+                              const Eigen::Vector3d& linear_drag = Eigen::Vector3d::Zero());
+
+/// @brief Jacobian of the drag term -diag(D) R_WI^T v_WI of predict_accel (current estimate).
+struct DragJacobian {
+  Eigen::Matrix3d H_theta;  ///< d h / d dtheta = -D [R^T v]x
+  Eigen::Matrix3d H_v;      ///< d h / d v_WI = -D R^T
+};
+DragJacobian drag_jacobian(const ImuState& x, const Eigen::Vector3d& linear_drag);
 
 /// @brief Non-trivial blocks of the accelerometer measurement Jacobian; H_ba is always I.
 struct AccelJacobian {

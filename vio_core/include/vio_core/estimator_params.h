@@ -69,6 +69,9 @@ struct EstimatorParams {
   /// payload picked up or dropped, or a thrust coefficient off; mass and coefficient scale are
   /// one observable), driven by this random walk [1/sqrt(s)]; 0 = off. README "Mass state".
   double thrust_scale_random_walk = 0.0;
+  /// Rotor telemetry latency [s]: a rotor / thrust sample stamped t is the thrust at t - delay
+  /// (it reaches the estimator that much later; the IMU waits for it up to rotor_gap_s).
+  double thrust_delay_s = 0.0;
   double rotor_gap_s = 0.05;             ///< no rotor sample for longer -> hold last thrust
   double rotor_gap_noise_scale = 10.0;   ///< thrust noise multiplier while holding
 
@@ -92,6 +95,9 @@ struct EstimatorParams {
   double force_jump_threshold = 30.0;    ///< GLR statistic (chi2(3); P(> 30) ~ 1.4e-6 per test)
   double force_jump_split_sigma = 2.0;   ///< each half of the window carries the step at >= this [sigma]
   int force_jump_window = 64;            ///< longest window [samples] (160 ms at 400 Hz)
+  /// Smallest step [m/s^2] treated as a jump; smaller ones are followed by the force(-rate)
+  /// random walk. 0 = any size (the behaviour before real-sensor data).
+  double force_jump_min_step = 0.0;
   // Flight phase (vio_core/flight_phase.h): landed while the estimated upward external force
   // (the ground reaction) carries at least this fraction of the weight, airborne below the
   // second one; a change must hold flight_phase_hold_s.

@@ -78,6 +78,7 @@ class ForceJumpDetector {
  private:
   double threshold_;
   double split_sigma_;
+  double min_step_;
   int max_window_;
   std::deque<AccelInnovation> buf_;
   mutable std::vector<Eigen::Vector3d> cum_w_;  ///< scratch of test(): sums of the newest i innovations

@@ -142,6 +142,13 @@ struct PipelineCounters {
   /// Largest fraction of tested features that failed the chi2 gate over one health window
   /// (windows with at least health_min_tested_features); the out-of-band test's margin.
   double max_chi2_rejected_fraction = 0.0;
+  /// Noise fit (README "Noise that does not fit the data"): per body axis, the sum of the
+  /// accelerometer innovations' r_i^2 / S_ii (mean 1 when the noise model fits) ...
+  Eigen::Vector3d accel_nis_sum = Eigen::Vector3d::Zero();
+  long accel_nis_count = 0;
+  /// ... and the visual features' chi2 over their degrees of freedom (features used).
+  double visual_chi2_sum = 0.0;
+  long visual_dof_sum = 0;
 };
 
 /// @brief The estimator.
@@ -228,12 +235,21 @@ class Pipeline {
   FilterState state_;
   StaticInitializer initializer_;
   ThrustBuffer thrust_;
+  void add_noise_fit(const AccelInnovation& info);
+  /// @brief process_imu once initialized: frames up to the sample, propagation, updates.
+  void process_imu_initialized(const ImuInput& in);
+  TimeNs thrust_delay_ns_ = 0;  ///< EstimatorParams::thrust_delay_s
+  bool tilted_thrust_ = false;  ///< VehicleParams::thrust_axis_I is not z
   std::unique_ptr<msckf::FeatureDatabase> features_;
   std::deque<ImuSample> imu_queue_;
   std::deque<GyroSample> gyro_history_;  ///< processed samples, the last kTdRateHalfWindowNs (with t_d)
   std::deque<FeatureFrame> frame_queue_;
   std::optional<ImuInput> last_input_;
-  std::optional<GroundTruthSample> last_gt_;
+  /// Recent ground truth while waiting for init_mode groundtruth (the last second), so the
+  /// initial state is interpolated to the first IMU sample's own time.
+  std::deque<GroundTruthSample> init_gt_;
+  /// @brief Ground truth interpolated to t (nearest row within 20 ms without a bracket).
+  std::optional<GroundTruthSample> groundtruth_at(TimeNs t) const;
   std::optional<Eigen::Vector3d> last_force_W_;
   TimeNs stream_time_ = INT64_MIN;
   FilterStatus status_ = FilterStatus::kWaitingForInit;

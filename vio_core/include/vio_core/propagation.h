@@ -57,9 +57,12 @@ constexpr int kWFd = 15;
 /// @brief Propagate the IMU mean over one interval (with optional noise, for testing).
 /// In dynamics mode v' = R_WI (s T_m + F_I) + g (body-frame force) or R_WI s T_m + F_W + g
 /// (world-frame force), with the thrust scale s = x.thrust_scale (1 when it is not estimated).
+/// A non-zero linear_drag D (dynamics mode) adds the body drag R_WI (-diag(D) R_WI^T v_WI), taken
+/// at the interval's start and held over it.
 ImuState propagate_mean(const ImuState& x, const ImuInterval& u, PropagationMode mode,
                         const Eigen::Vector3d& g_W, const DiscreteNoise& noise = {},
-                        ForceFrame frame = ForceFrame::kBody);
+                        ForceFrame frame = ForceFrame::kBody,
+                        const Eigen::Vector3d& linear_drag = Eigen::Vector3d::Zero());
 
 /// @brief Phi (d x d) and G (d x nn), d = ImuLayout::dim(), nn = ImuLayout::noise_dim() (15 / 18
 /// / 21 and 12 / 15 / 18 for imu / dynamics / dynamics with the force-rate state, one more each
@@ -70,7 +73,8 @@ void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuSt
                            const ImuInterval& u, PropagationMode mode, const Eigen::Vector3d& g_W,
                            Eigen::MatrixXd* Phi, Eigen::MatrixXd* G,
                            ForceFrame frame = ForceFrame::kBody, bool force_rate = false,
-                           bool thrust_scale = false);
+                           bool thrust_scale = false,
+                           const Eigen::Vector3d& linear_drag = Eigen::Vector3d::Zero());
 
 /// @brief Diagonal covariance of DiscreteNoise for an interval of length dt.
 /// noise_scale multiplies the measurement noises (gaps); thrust noise replaces accel noise in

@@ -68,6 +68,9 @@ struct ImuState {
   double thrust_scale = 1.0;
 };
 
+/// @brief Mass-normalized linear body drag at x: -diag(D) R_WI^T v_WI, in I [m/s^2].
+Eigen::Vector3d drag_in_body(const ImuState& x, const Eigen::Vector3d& D);
+
 /// @brief F_ext of x in the body frame I (F_I = R_WI^T F_W in the world-frame model).
 Eigen::Vector3d force_in_body(const ImuState& x, ForceFrame frame);
 /// @brief F_ext of x in the world frame W (F_W = R_WI F_I in the body-frame model).
@@ -148,6 +151,12 @@ class FilterState {
   ForceFrame force_frame() const { return force_frame_; }
   bool with_force_rate() const { return layout_.force_rate; }
   bool with_thrust_scale() const { return layout_.thrust_scale; }
+  /// @brief Mass-normalized linear body drag of the dynamics model, F_drag_I = -diag(D) v_I
+  /// [1/s] (docs/design.md §3 "Rotor drag"); a known model constant, not a state. Zero (the
+  /// default) leaves the model as it was.
+  void set_linear_drag(const Eigen::Vector3d& D) { linear_drag_ = D; }
+  const Eigen::Vector3d& linear_drag() const { return linear_drag_; }
+  bool with_drag() const { return layout_.force && !linear_drag_.isZero(0.0); }
   const ImuLayout& layout() const { return layout_; }
   int imu_dim() const { return layout_.dim(); }
   int dim() const { return static_cast<int>(P_.rows()); }
@@ -213,6 +222,7 @@ class FilterState {
 
   ForceFrame force_frame_;
   ImuLayout layout_;
+  Eigen::Vector3d linear_drag_ = Eigen::Vector3d::Zero();
   TimeNs t_ns_ = 0;
   ImuState imu_;
   ImuFej imu_fej_;

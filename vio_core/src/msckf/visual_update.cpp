@@ -235,6 +235,8 @@ VisualLinearSystem build_visual_update(const std::vector<FeatureTrack>& tracks,
       continue;
     }
     ++out.features_used;
+    out.chi2_sum += chi2;
+    out.dof_sum += dof;
     if (use_qr) {
       // Left-nullspace projection of H_x (only the QR path needs the rows themselves).
       H_x.setZero(2 * m, K);

@@ -20,6 +20,8 @@ struct VisualLinearSystem {
   double noise_var = 0.0;
   int features_used = 0;
   int features_rejected_chi2 = 0;
+  double chi2_sum = 0.0;  ///< chi2 of the features used (noise fit: chi2_sum / dof_sum ~ 1)
+  long dof_sum = 0;       ///< their degrees of freedom
   int features_rejected_triangulation = 0;
   /// Tracks with fewer than min_observations observations at clone times (not an error).
   int features_too_short = 0;
