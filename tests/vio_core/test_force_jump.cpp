@@ -75,6 +75,32 @@ TEST(ForceJumpDetector, FindsAStepQuicklyWithItsSizeAndOnset) {
   EXPECT_LT(delay_sum / found, 25.0) << "mean detection delay [samples]";  // theory: ~30 / (9.25 / 4) = 13
 }
 
+// A small step (0.5 m/s^2 against 0.15 m/s^2 noise: far past the GLR threshold) is left to the force
+// random walk under the default floor force_jump_min_step = 1 m/s^2, and found without it.
+TEST(ForceJumpDetector, StepsBelowTheFloorAreNotJumps) {
+  for (double floor : {1.0, 0.0}) {
+    EstimatorParams p;
+    p.force_jump_min_step = floor;
+    int found = 0;
+    for (unsigned seed = 1; seed <= 20; ++seed) {
+      ForceJumpDetector det(p);
+      Noise noise(seed);
+      // A real 100 Hz IMU's per-sample noise (0.15 m/s^2): the noise here scaled by 0.075.
+      for (int k = 0; k < 64; ++k) {
+        AccelInnovation s = innovation(k, Eigen::Vector3d(0.5, 0.0, 0.0) + 0.075 * noise());
+        s.S *= 0.075 * 0.075;
+        det.push(s);
+      }
+      if (det.test()) ++found;
+    }
+    if (floor > 0.0) {
+      EXPECT_EQ(found, 0) << "floor " << floor;
+    } else {
+      EXPECT_EQ(found, 20) << "floor " << floor;
+    }
+  }
+}
+
 // One sample of 30 m/s^2 (an outlier, not a step): each half of a window must carry the step.
 TEST(ForceJumpDetector, ASingleSpikeIsNotAStep) {
   EstimatorParams p;

@@ -122,11 +122,12 @@ void propagation_jacobians(const ImuState& x_k, const ImuFej& fej_k, const ImuSt
   if (dyn && !linear_drag.isZero(0.0)) {
     // Drag a_W = -R D R^T v, held over the interval (velocity += a dt, position += a dt^2 / 2).
     // With u = R^T v and R = R_hat Exp(dtheta): d a_W / d dtheta = R ([D u]x - D [u]x),
-    // d a_W / d v = -R D R^T (current estimate: the drag term is small against gravity).
+    // d a_W / d v = -R D R^T, at the first estimates like the other columns: then Phi maps the
+    // yaw direction of the nullspace at t_k to the one at t_k+1 (drag adds [e_z]x a_drag dt).
     const Eigen::DiagonalMatrix<double, 3> D(linear_drag);
-    const Vector3d u_I = R_k.transpose() * x_k.v_WI;
-    const Matrix3d A_theta = R_k * (so3::skew(D * u_I) - D * so3::skew(u_I));
-    const Matrix3d A_v = -R_k * D * R_k.transpose();
+    const Vector3d u_I = R_k_fej.transpose() * fej_k.v_WI;
+    const Matrix3d A_theta = R_k_fej * (so3::skew(D * u_I) - D * so3::skew(u_I));
+    const Matrix3d A_v = -R_k_fej * D * R_k_fej.transpose();
     Phi.block<3, 3>(ix::kV, ix::kTheta) += A_theta * dt;
     Phi.block<3, 3>(ix::kP, ix::kTheta) += A_theta * (0.5 * dt * dt);
     Phi.block<3, 3>(ix::kV, ix::kV) += A_v * dt;
