@@ -41,6 +41,7 @@ const DoubleField kDoubles[] = {
     VID_FIELD(imu_gap_s),
     VID_FIELD(imu_gap_noise_scale),
     VID_FIELD(accel_chi2_multiplier),
+    VID_FIELD(accel_noise_window_s),
     VID_FIELD(force_jump_threshold),
     VID_FIELD(force_jump_split_sigma),
     VID_FIELD(force_jump_min_step),

@@ -45,6 +45,7 @@ void add_counters(PipelineCounters& a, const PipelineCounters& b) {
   a.accel_nis_count += b.accel_nis_count;
   a.visual_chi2_sum += b.visual_chi2_sum;
   a.visual_dof_sum += b.visual_dof_sum;
+  a.accel_noise_inflated += b.accel_noise_inflated;
 }
 
 nlohmann::json noise_fit_report(const PipelineCounters& c) {
@@ -58,6 +59,8 @@ nlohmann::json noise_fit_report(const PipelineCounters& c) {
     const Eigen::Vector3d nis = c.accel_nis_sum / static_cast<double>(c.accel_nis_count);
     j["accel_nis_per_axis"] = {nis.x(), nis.y(), nis.z()};
     j["accel_samples"] = c.accel_nis_count;
+    // The share of samples whose noise the vibration-aware adaptation raised (accel_noise.h).
+    j["accel_noise_inflated_fraction"] = static_cast<double>(c.accel_noise_inflated) / static_cast<double>(c.accel_nis_count);
     const char* axes = "xyz";
     for (int i = 0; i < 3; ++i) {
       if (nis(i) > kFactor || nis(i) < 1.0 / kFactor)

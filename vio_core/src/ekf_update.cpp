@@ -101,6 +101,12 @@ void add_drag_columns(const Eigen::MatrixXd& P, const DragJacobian& J, Eigen::Ma
 
 UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
                           double noise_var, double chi2_threshold, AccelInnovation* info, bool downweight) {
+  return accel_update(state, a_m, T_m, Eigen::Vector3d::Constant(noise_var), chi2_threshold, info, downweight);
+}
+
+UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
+                          const Eigen::Vector3d& noise_var, double chi2_threshold, AccelInnovation* info,
+                          bool downweight) {
   if (!state.with_force()) throw std::logic_error("accel_update needs the F_ext state (dynamics mode)");
   UpdateResult res;
   Eigen::MatrixXd& P = state.P();
@@ -136,7 +142,7 @@ UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const 
   }
   if (is >= 0) S.noalias() += T_m * PHt.row(is);
   S = 0.5 * (S + S.transpose()).eval();
-  S.diagonal().array() += noise_var;
+  S.diagonal() += noise_var;
   const Eigen::Vector3d r = a_m - predict_accel(state.imu(), T_m, state.force_frame(), D);
   InnovationFactor<3> f;
   if (!f.compute(S, r)) return res;

@@ -56,8 +56,15 @@ EstimateOutput apply_lag_anchor(const EstimateOutput& e, const LagAnchor& a, For
   s.x.T_WI.p = e.x.T_WI.p + a.dp_WI;
   s.x.F_ext = e.x.F_ext + a.dF;
   if (e.F_ext_I.isZero() && e.F_ext_W.isZero() && e.cov_F_I.isZero()) return s;  // imu mode: no force
+  // The reported force is the state's plus the model's body drag (force_output.h); the smoother
+  // corrects the state's part, the drag of the causal estimate is kept.
+  const Eigen::Vector3d drag_I = e.F_ext_I - force_in_body(e.x, frame);
   s.F_ext_I = force_in_body(s.x, frame);
   s.F_ext_W = force_in_world(s.x, frame);
+  if (!drag_I.isZero(0.0)) {
+    s.F_ext_I += drag_I;
+    s.F_ext_W = s.x.T_WI.q * s.F_ext_I;
+  }
   // The covariance reduction is the clone's, in the force frame (eq. S6); the other frame's
   // reduction is mapped through the smoothed R_WI.
   const Eigen::Matrix3d R = s.x.T_WI.q.toRotationMatrix();

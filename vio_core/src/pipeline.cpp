@@ -54,7 +54,9 @@ Pipeline::Pipeline(PipelineConfig config)
       features_(std::make_unique<msckf::FeatureDatabase>()),
       jumps_(config_.params),
       phase_(config_.params),
-      health_(config_.params) {
+      health_(config_.params),
+      accel_noise_(config_.params.accel_noise_density * config_.params.accel_noise_density * config_.params.imu_rate_hz,
+                   config_.params.accel_noise_window_s * config_.params.imu_rate_hz) {
   if (config_.params.mode == PropagationMode::kDynamics && !(config_.vehicle.mass_kg > 0.0)) {
     throw std::invalid_argument("dynamics mode needs vehicle mass_kg > 0");
   }
@@ -149,13 +151,23 @@ void Pipeline::add_noise_fit(const AccelInnovation& info) {
   const Eigen::Vector3d r_I = world ? Eigen::Vector3d(info.R_WI.transpose() * info.w) : info.w;
   const Eigen::Matrix3d S_I = world ? Eigen::Matrix3d(info.R_WI.transpose() * info.S * info.R_WI) : info.S;
   if (!(S_I.diagonal().minCoeff() > 0.0)) return;
-  counters_.accel_nis_sum += r_I.cwiseAbs2().cwiseQuotient(S_I.diagonal());
+  const bool was_inflated = accel_noise_.noise_var() != Eigen::Vector3d::Constant(nominal_accel_var());
+  accel_noise_.add(r_I, S_I.diagonal());
+  if (was_inflated) ++counters_.accel_noise_inflated;
+  // Against the nominal noise (imu0/sensor.yaml): the fit tells whether that setting is right,
+  // whatever the adaptation made of it.
+  counters_.accel_nis_sum += r_I.cwiseAbs2().cwiseQuotient(accel_noise_.nominal_innovation_var());
   ++counters_.accel_nis_count;
+}
+
+double Pipeline::nominal_accel_var() const {
+  const EstimatorParams& p = config_.params;
+  return p.accel_noise_density * p.accel_noise_density * p.imu_rate_hz;
 }
 
 void Pipeline::accel_step(const ImuInput& in) {
   const EstimatorParams& p = config_.params;
-  const double noise_var = p.accel_noise_density * p.accel_noise_density * p.imu_rate_hz;
+  const Eigen::Vector3d noise_var = accel_noise_.noise_var();
   const double thr = p.accel_chi2_gating ? p.accel_chi2_multiplier * chi2_quantile(0.99, 3) : 0.0;
   const bool down = p.accel_gate_downweight;
   AccelInnovation info;
@@ -187,7 +199,7 @@ void Pipeline::accel_step(const ImuInput& in) {
   for (int i = jumps_.size() - 1; i >= jump->n; --i)
     if (jumps_.recent(i).gated) record_past_gate(jumps_.recent(i).t_ns);
   jumps_.clear();
-  apply_force_jump(state_, window, *jump, noise_var, p.init_sigma_force_rate);
+  apply_force_jump(state_, window, *jump, noise_var.maxCoeff(), p.init_sigma_force_rate);
   ++counters_.force_jumps;
   if (counters_.force_jump_events.size() < 10000)
     counters_.force_jump_events.push_back(ForceJumpRecord{jump->t_ns, jump->n, jump->delta.norm()});
@@ -241,6 +253,7 @@ void Pipeline::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd&
     state_.add_time_offset(config_.cameras.front().timeshift_cam_imu_s, config_.params.init_sigma_time_offset);
   }
   jumps_.clear();
+  accel_noise_.reset();
   phase_.reset();
   last_input_.reset();
   features_ = std::make_unique<msckf::FeatureDatabase>();

@@ -68,5 +68,10 @@ AccelJacobian accel_jacobian(const ImuState& x, const Eigen::Quaterniond& q_WI_l
 UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
                           double noise_var, double chi2_threshold, AccelInnovation* info = nullptr,
                           bool downweight = false);
+/// @brief The same with a diagonal noise variance per IMU axis (the vibration-aware noise,
+/// vio_core/accel_noise.h).
+UpdateResult accel_update(FilterState& state, const Eigen::Vector3d& a_m, const Eigen::Vector3d& T_m,
+                          const Eigen::Vector3d& noise_var_I, double chi2_threshold,
+                          AccelInnovation* info = nullptr, bool downweight = false);
 
 }  // namespace vid

@@ -28,6 +28,7 @@
 #include "vio_core/calibration.h"
 #include "vio_core/estimator_params.h"
 #include "vio_core/flight_phase.h"
+#include "vio_core/accel_noise.h"
 #include "vio_core/health_monitor.h"
 #include "vio_core/force_jump.h"
 #include "vio_core/initializer.h"
@@ -149,6 +150,7 @@ struct PipelineCounters {
   /// ... and the visual features' chi2 over their degrees of freedom (features used).
   double visual_chi2_sum = 0.0;
   long visual_dof_sum = 0;
+  long accel_noise_inflated = 0;  ///< accelerometer samples with the vibration-aware noise above nominal
 };
 
 /// @brief The estimator.
@@ -236,6 +238,7 @@ class Pipeline {
   StaticInitializer initializer_;
   ThrustBuffer thrust_;
   void add_noise_fit(const AccelInnovation& info);
+  double nominal_accel_var() const;
   /// @brief process_imu once initialized: frames up to the sample, propagation, updates.
   void process_imu_initialized(const ImuInput& in);
   TimeNs thrust_delay_ns_ = 0;  ///< EstimatorParams::thrust_delay_s
@@ -261,6 +264,7 @@ class Pipeline {
   TimeNs phase_time_ = 0;  ///< time of the last flight-phase update
   ParallaxWindow parallax_;  ///< cam0 frames of the clone window (zero-velocity test)
   HealthMonitor health_;
+  AccelNoiseAdapter accel_noise_;  ///< vibration-aware accelerometer noise (accel_noise.h)
   std::function<void(const EstimateOutput&)> on_estimate_;
   std::function<void(const FrameTimings&)> on_frame_;
   std::unique_ptr<FixedLagOutput> lagged_;  ///< smoothed outputs (smoother_lag_s > 0)
