@@ -56,15 +56,18 @@ struct EstimatorParams {
 
   // --- dynamics model ---
   double thrust_noise_density = 0.05;    ///< mass-normalized thrust noise [m/s^2/sqrt(Hz)]
-  // Force process model (measured on full-length vid17/vid18_like feature-level data, world
-  // force RMSE): body-frame random walk 1.0 -> 0.32 / 0.34 m/s^2; world frame + force rate
-  // (0.02, 0.3) -> 0.130 / 0.206 m/s^2, and F_ext NEES inside the 95% band on vid17_like
-  // (0.5 is conservative there, 0.2 overconfident). README "External-force accuracy".
-  double force_random_walk = 0.02;       ///< F_ext random walk [m/s^3/sqrt(Hz)]
+  // Force process model of a real vehicle: everything the thrust model misses (rotor drag, blade
+  // flapping, motor transients) is "external force" and varies fast. On the Blackbird real
+  // flight (0.3, 1.0) keeps the force NEES in the 95 % band 91 % of the time (the simulator's
+  // (0.02, 0.3): 44 %, body force 0.186 -> 0.139 m/s^2). The simulator's vehicle has exact
+  // thrust and smooth rope forces: config/sim sets (0.02, 0.5) (world force RMSE 0.130 / 0.206
+  // on full-length vid17/vid18_like with (0.02, 0.3); README "External-force accuracy",
+  // "Real sensors").
+  double force_random_walk = 0.3;        ///< F_ext random walk [m/s^3/sqrt(Hz)]
   ForceFrame force_frame = ForceFrame::kWorld;  ///< frame of the F_ext state
   /// > 0 adds the force rate dF_ext/dt to the state, driven by this random walk
   /// [m/s^4/sqrt(Hz)] (integrated random walk: ramps are followed without lag); 0 = off.
-  double force_rate_random_walk = 0.3;
+  double force_rate_random_walk = 1.0;
   /// > 0 adds the thrust scale s to the state (a = s T_m + F_ext + b_a: s = m0 k / (m k0), a
   /// payload picked up or dropped, or a thrust coefficient off; mass and coefficient scale are
   /// one observable), driven by this random walk [1/sqrt(s)]; 0 = off. README "Mass state".
