@@ -50,8 +50,8 @@ def _accel(mav0: Path, start: float, end: Optional[float], cutoff: float) -> tup
         fit = fit_flight(mav0, FitOptions(start=start, end=end))
     except VidEvalError as exc:
         return None, f"no thrust model ({exc})"
-    how = (f"accelerometer - fitted thrust{' + drag' if fit.drag is not None else ''} model "
-           f"({fit.stream.kind}, thrust latency {fit.delay.value_s * 1e3:.1f} ms)")
+    latency = f"thrust latency {fit.delay.value_s * 1e3:.1f} ms" + (f": {fit.delay.note}" if fit.delay.note else "")
+    how = f"accelerometer - fitted thrust{' + drag' if fit.drag is not None else ''} model ({fit.stream.kind}, {latency})"
     return flight_noise(fit.residuals, fit.rate_hz, cutoff), how
 
 
