@@ -25,7 +25,7 @@ from scipy.signal import butter, sosfiltfilt
 AXIS_SIGMA_MAX_DEG = 0.25
 #: Largest 1-sigma of a drag coefficient [1/s] for which it is written: beyond it the log hardly
 #: moves along that axis (real rotor drag is 0.2-0.5 1/s).
-DRAG_SIGMA_MAX = 0.1
+DRAG_SIGMA_MAX = 0.05
 #: Low-pass [Hz] for the force comparisons (drag share, lateral force): below it lies the
 #: aerodynamic force, above it the rotor vibration.
 FORCE_BAND_HZ = 5.0
@@ -47,7 +47,12 @@ def fit_lateral(a_j: np.ndarray, thrust_per_m: np.ndarray, v_j: Optional[np.ndar
     """Least squares of one lateral row (module docstring); 1-sigma from the residual scatter.
     The drag column stays in even where the log hardly moves along the axis: on vertical steps
     the body leans by the thrust tilt, so v_j ~ -tilt_j v_z follows the thrust steps, and
-    leaving the drag out biased the tilt 6 % low on the simulated steps log."""
+    leaving the drag out biased the tilt 6 % low on the simulated steps log. A velocity that is
+    zero to 1 mm/s (a simulated level body) carries nothing: no column, the drag is NaN."""
+    if v_j is not None and not np.sqrt(np.mean(np.square(v_j))) > 1e-3:
+        fit = fit_lateral(a_j, thrust_per_m)
+        fit.drag_sigma = float("inf")
+        return fit
     cols = [thrust_per_m] + ([] if v_j is None else [-v_j]) + [np.ones_like(thrust_per_m)]
     A = np.column_stack(cols)
     scale = np.sqrt(np.mean(A ** 2, axis=0))

@@ -242,7 +242,7 @@ def _drag_diagnostics(fit: FlightFit, accel: np.ndarray, v: np.ndarray, opts: Fi
     """Speed, drag share of the body force, and what the fit without drag gives on this log."""
     z = fit.z
     fit.speed_p90 = float(np.percentile(np.linalg.norm(v, axis=1), 90))
-    D = fit.drag
+    D = np.nan_to_num(fit.drag)
     thrust = np.column_stack([fit.x.c * z.thrust_per_m, fit.y.c * z.thrust_per_m, z.thrust_per_m])
     body = accel - thrust - np.array([fit.x.bias, fit.y.bias, z.bias_z])
     fit.drag_share = drag_share(body, -D * v, fit.rate_hz)
