@@ -27,7 +27,7 @@ from ..importer.errors import DataError
 from ..importer.sync import ThrustOffset, thrust_offset
 from ..loaders import ImuSeries, Vehicle
 from . import dataset as ds
-from .axis_fit import DRAG_SIGMA_MAX, FORCE_BAND_HZ, LateralFit, ThrustAxis, drag_share, fit_lateral, low_pass, thrust_axis
+from .axis_fit import AXIS_SIGMA_MAX_DEG, DRAG_SIGMA_MAX, FORCE_BAND_HZ, LateralFit, ThrustAxis, drag_share, fit_lateral, low_pass, thrust_axis
 from .thrust_fit import FitInput, ThrustFit, fit_thrust, regressors
 from .torque_rows import WINDOW_S, load_geometry, torque_rows
 from .truth_motion import TruthMotion, truth_motion
@@ -231,7 +231,7 @@ def fit_flight(mav0: Path, opts: FitOptions) -> FlightFit:
     if not fit.axis.determined:
         fit.warnings.append(
             f"the thrust axis is not determined (1-sigma {fit.axis.component_sigma_deg:.2f} deg per component > "
-            f"0.1 deg): the log does not separate the tilt from the accelerometer bias; the thrust must vary "
+            f"{AXIS_SIGMA_MAX_DEG:g} deg): the log does not separate the tilt from the accelerometer bias; the thrust must vary "
             "(vertical steps); thrust_axis is not written")
     if delay.note:
         fit.warnings.append(f"thrust latency {delay.note}")
