@@ -36,7 +36,9 @@ def log(tmp_path_factory):
 
 
 def _fit(*args):
-    return subprocess.run([sys.executable, "-m", "vid_eval.calib.fit_thrust_cli", *map(str, args)],
+    """vid-fit-thrust with --delay 0: thrust_fit has no rotor latency, and its measurement
+    (test_calib_flight.py) would only slow these tests down."""
+    return subprocess.run([sys.executable, "-m", "vid_eval.calib.fit_thrust_cli", "--delay", "0", *map(str, args)],
                           capture_output=True, text=True)
 
 

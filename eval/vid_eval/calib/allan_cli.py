@@ -1,5 +1,6 @@
 """``vid-allan``: IMU noise densities and random walks from a static IMU log, in the keys of
-Kalibr's imu.yaml (which ``vid_run --config`` reads as it is).
+Kalibr's imu.yaml (which ``vid_run --config`` reads as it is); with ``--flight`` the in-flight
+noise densities of a flight log with no static part (:mod:`vid_eval.calib.allan_flight`).
 
 Reads ``imu0/data.csv`` (a dataset folder or the CSV itself), takes ``--start``/``--end``
 (the part where the IMU stands still), computes each axis' overlapping Allan deviation with
@@ -21,6 +22,7 @@ from ..loaders import load_imu
 from ..usage import OneLineParser
 from .cli_errors import run_reporting_errors
 from .allan import analyse
+from .allan_flight import flight_flags, run_flight
 from .dataset import find_mav0
 
 PROG = "vid-allan"
@@ -39,6 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", metavar="FILE", help="write a Kalibr imu.yaml (imu0: ...) here")
     p.add_argument("--plot", metavar="FILE.png", help="write the Allan deviation plot here")
     p.add_argument("--rostopic", default="/imu0", help="rostopic written into --out (default /imu0)")
+    flight_flags(p)
     return p
 
 
@@ -49,6 +52,10 @@ def _check_flags(p: argparse.ArgumentParser, a: argparse.Namespace) -> None:
         p.error(f"--end: expected seconds after --start ({a.start:g}), got {a.end:g}")
     if a.plot is not None and not a.plot.lower().endswith(".png"):
         p.error(f"--plot: expected a .png file name, got '{a.plot}'")
+    if a.flight and a.plot is not None:
+        p.error("--plot: the Allan deviation of a static log; not with --flight")
+    if not (a.highpass > 0 and np.isfinite(a.highpass)):
+        p.error(f"--highpass: expected a positive frequency in Hz, got {a.highpass:g}")
 
 
 def kalibr_imu_yaml(values: dict, rate_hz: float, rostopic: str, comment: str) -> str:
@@ -68,6 +75,8 @@ def kalibr_imu_yaml(values: dict, rate_hz: float, rostopic: str, comment: str) -
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.flight:
+        return run_flight(args, PROG, kalibr_imu_yaml)
     src = Path(args.input)
     csv = src if src.is_file() else find_mav0(src) / "imu0" / "data.csv"
     imu = load_imu(csv)

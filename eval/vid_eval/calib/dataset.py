@@ -3,6 +3,7 @@ through the package's one set of loaders (:mod:`vid_eval.loaders`)."""
 from __future__ import annotations
 
 import os
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Optional
 
@@ -47,14 +48,46 @@ def rotor_unit_and_count(mav0: Path) -> tuple[str, Optional[int]]:
 
 
 def rotor_speeds(mav0: Path) -> tuple[Table, str]:
-    """``rotor0/data.csv`` and the speed unit; without rotor0 the fit has nothing to fit."""
+    """``rotor0/data.csv`` and the speed unit."""
     path = mav0 / "rotor0" / "data.csv"
-    if not path.is_file():
-        thrust = " (thrust0/ holds a measured thrust: the estimator needs no coefficients)" \
-            if (mav0 / "thrust0" / "data.csv").is_file() else ""
-        raise InputFormatError(path, "no rotor speeds in this dataset" + thrust)
     unit, count = rotor_unit_and_count(mav0)
     return load_rotor_speeds(path, count), unit
+
+
+@dataclass
+class ThrustStream:
+    """What the thrust fit regresses on: rotor speeds (``rotor0``, squared in the fit) or a
+    measured collective thrust (``thrust0``, N, one column)."""
+
+    t_ns: np.ndarray
+    values: np.ndarray   # (N, k) rotor speeds, or (N, 1) thrust [N]
+    unit: str            # rpm | rad/s | unit (rotor0), N (thrust0)
+    kind: str            # rotor0 | thrust0
+    path: str
+
+    @property
+    def squared(self) -> bool:
+        """The fit's regressors are the squared values (rotor speeds), not the values."""
+        return self.kind == "rotor0"
+
+
+SOURCES = ("auto", "rotor0", "thrust0")
+
+
+def thrust_stream(mav0: Path, source: str = "auto") -> ThrustStream:
+    """``rotor0`` (``auto``: when present) or ``thrust0``; an error naming the folder without either."""
+    has_rotor, has_thrust = (mav0 / "rotor0" / "data.csv").is_file(), (mav0 / "thrust0" / "data.csv").is_file()
+    if source == "thrust0" or (source == "auto" and has_thrust and not has_rotor):
+        path = mav0 / "thrust0" / "data.csv"
+        if not has_thrust:
+            raise InputFormatError(path, "no measured thrust in this dataset")
+        tab = read_table(path, {2}, what="thrust0 CSV")
+        return ThrustStream(tab.t_ns, tab.values[:, :1], "N", "thrust0", tab.path)
+    if not has_rotor:
+        raise InputFormatError(mav0 / "rotor0" / "data.csv", "no rotor speeds" + (
+            "" if source == "rotor0" else " and no thrust0/data.csv in this dataset: nothing to fit"))
+    tab, unit = rotor_speeds(mav0)
+    return ThrustStream(tab.t_ns, tab.values, unit, "rotor0", tab.path)
 
 
 def vehicle(mav0: Path, mass_flag: Optional[float]) -> tuple[Optional[Vehicle], float, str]:
@@ -86,9 +119,9 @@ def groundtruth_accel_bias_z(gt: Table, t_ns: np.ndarray) -> np.ndarray:
                      gt.values[:, formats.EUROC_GT_COLUMNS - 2])
 
 
-def external_force_z(mav0: Path, gt: Optional[Table], t_ns: np.ndarray, mass_kg: float) -> Optional[np.ndarray]:
-    """Body-z external force per mass [m/s^2] from ``force0`` (world, N) rotated with the
-    ground-truth attitude, at ``t_ns``; None without force0 or ground truth."""
+def external_force_I(mav0: Path, gt: Optional[Table], t_ns: np.ndarray, mass_kg: float) -> Optional[np.ndarray]:
+    """(N, 3) external force per mass in the IMU frame [m/s^2] from ``force0`` (world, N) rotated
+    with the ground-truth attitude, at ``t_ns``; None without force0 or ground truth."""
     path = mav0 / "force0" / "data.csv"
     if not path.is_file() or gt is None:
         return None
@@ -101,4 +134,4 @@ def external_force_z(mav0: Path, gt: Optional[Table], t_ns: np.ndarray, mass_kg:
     # The attitude of the nearest ground-truth sample (200 Hz): enough for a force in N.
     idx = np.clip(np.searchsorted(tg, ti), 0, len(tg) - 1)
     R_WI = matrices_from_wxyz(gt.values[idx, 3:7])
-    return np.einsum("nij,ni->nj", R_WI, f_w)[:, 2] / mass_kg
+    return np.einsum("nij,ni->nj", R_WI, f_w) / mass_kg

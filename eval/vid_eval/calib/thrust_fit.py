@@ -9,7 +9,10 @@ away from the ground) the body-z accelerometer is therefore linear in the unknow
     a_z(t) = sum_i (k_i / m) n_i(t)^2 + b_z + noise
 
 ``per-rotor`` fits one k_i per rotor, ``collective`` one k shared by all rotors
-(``T = k sum_i n_i^2``). The mass is not fitted: the estimator divides by the mass of
+(``T = k sum_i n_i^2``). A measured collective thrust (thrust0, N) is the same fit with one
+"rotor" whose squared speed is the thrust: its k is the thrust scale s (a factor on the
+measured thrust). Known regressors with unknown coefficients (``FitInput.extra``: the body
+velocity -v_z, whose coefficient is the linear drag D_z) join the accelerometer rows. The mass is not fitted: the estimator divides by the mass of
 vehicle.yaml, so k is fitted for that mass (k/m is what the data determine).
 
 Per-rotor coefficients need differential thrust, which the accelerometer does not see; with the
@@ -54,6 +57,7 @@ class FitInput:
     accel_z: np.ndarray         # (N,) body-z specific force [m/s^2], external force removed
     speed_sq: np.ndarray        # (N, k) n_i^2 interpolated to the IMU times [unit^2]
     bias_z: Optional[np.ndarray] = None  # (N,) known accelerometer bias (ground truth)
+    extra: Optional[np.ndarray] = None   # (N, e) further regressors of a_z (e.g. -v_z: coefficient D_z)
 
 
 @dataclass
@@ -70,6 +74,9 @@ class ThrustFit:
     warnings: List[str] = field(default_factory=list)
     torque_rms: Optional[np.ndarray] = None  # (3,) roll/pitch/yaw window residual RMS [N m s]
     torque_windows: int = 0     # windows of the Euler equation used (0: accelerometer only)
+    extra: np.ndarray = field(default_factory=lambda: np.zeros(0))        # coefficients of FitInput.extra
+    extra_sigma: np.ndarray = field(default_factory=lambda: np.zeros(0))  # their 1-sigma
+    thrust_per_m: Optional[np.ndarray] = None  # (N,) the fitted T/m alone [m/s^2]
 
     @property
     def rms(self) -> float:
@@ -83,16 +90,16 @@ class ThrustFit:
 
 
 def regressors(t_imu: np.ndarray, accel_z: np.ndarray, t_rotor: np.ndarray, speeds: np.ndarray,
-               min_thrust_fraction: float) -> tuple[np.ndarray, np.ndarray]:
+               min_thrust_fraction: float, square: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """``(keep, speed_sq)``: n_i^2 linearly interpolated to the IMU times (as the estimator
     interpolates T, which is linear in n_i^2) and the mask of IMU samples usable for the fit:
     inside the rotor stream, not inside a rotor gap, and with sum n_i^2 at least
     ``min_thrust_fraction`` of its median (drops the ground, idle and spin-up parts, where the
-    ground carries the weight)."""
+    ground carries the weight). ``square=False``: the values are a thrust already (thrust0)."""
     t0 = t_rotor[0]
     tr = (t_rotor - t0).astype(float)
     ti = (t_imu - t0).astype(float)
-    sq = speeds.astype(float) ** 2
+    sq = speeds.astype(float) ** 2 if square else speeds.astype(float)
     speed_sq = np.stack([np.interp(ti, tr, sq[:, j]) for j in range(sq.shape[1])], axis=1)
     keep = (ti >= tr[0]) & (ti <= tr[-1])
     if len(tr) > 1:
@@ -131,6 +138,9 @@ def fit_thrust(data: FitInput, mass_kg: float, model: str, bias: str,
         known_bias = float(np.mean(data.bias_z))
     n_rotors = data.speed_sq.shape[1]
     cols = data.speed_sq / mass_kg if model == "per-rotor" else data.speed_sq.sum(axis=1, keepdims=True) / mass_kg
+    k_count = cols.shape[1]
+    extra = np.zeros((len(y), 0)) if data.extra is None else np.asarray(data.extra, dtype=float).reshape(len(y), -1)
+    cols = np.hstack([cols, extra])
     if bias == "fit":
         cols = np.hstack([cols, np.ones((len(y), 1))])
     n_params = cols.shape[1]
@@ -139,15 +149,12 @@ def fit_thrust(data: FitInput, mass_kg: float, model: str, bias: str,
     use_torque = model == "per-rotor" and torque is not None
     if use_torque:
         t_cols = torque.design()
-        if bias == "fit":
-            t_cols = np.hstack([t_cols, np.zeros((len(t_cols), 1))])
+        t_cols = np.hstack([t_cols, np.zeros((len(t_cols), n_params - n_rotors))])
         t_y = torque.target()
         # Start from the collective solution (the accelerometer's scale, equal k_i) to get the
         # first noise estimates of each block.
-        k0 = fit_thrust(data, mass_kg, "collective", bias).coefficients
-        sigmas = _block_rms(y - data.speed_sq @ k0 / mass_kg - (np.mean(y - data.speed_sq @ k0 / mass_kg)
-                                                              if bias == "fit" else 0.0),
-                            t_y - t_cols[:, :n_rotors] @ k0)
+        first = fit_thrust(data, mass_kg, "collective", bias)
+        sigmas = _block_rms(first.residuals, t_y - t_cols[:, :n_rotors] @ first.coefficients)
         for _ in range(3):
             w = _row_weights(len(y), len(t_y), sigmas)
             A_all, y_all = np.vstack([cols, t_cols]) * w[:, None], np.concatenate([y, t_y]) * w
@@ -179,10 +186,11 @@ def fit_thrust(data: FitInput, mass_kg: float, model: str, bias: str,
     sig = np.sqrt(np.clip(np.diag(cov_scaled), 0.0, None)) / scale
     if use_torque:
         params, sig, pred = _rescale_by_accelerometer(params, cov_scaled / np.outer(scale, scale), data, y,
-                                                      mass_kg, bias, n_rotors)
+                                                      mass_kg, bias, n_rotors, extra)
         res = y - pred
     condition = float(sv[0] / sv[-1]) if sv[-1] > 0 else float("inf")
-    k_count = n_rotors if model == "per-rotor" else 1
+    thrust_per_m = cols[:, :k_count] @ params[:k_count]
+    e_count = extra.shape[1]
     k, k_sig = params[:k_count], sig[:k_count]
     if model == "collective":
         k, k_sig = np.repeat(k, n_rotors), np.repeat(k_sig, n_rotors)
@@ -200,20 +208,22 @@ def fit_thrust(data: FitInput, mass_kg: float, model: str, bias: str,
         t_res = (torque.target() - torque.design() @ params[:n_rotors]).reshape(-1, 3)
         torque_rms = np.sqrt(np.mean(t_res ** 2, axis=0))
     return ThrustFit(model, k, k_sig, b, res, pred + (known_bias if bias == "groundtruth" else 0.0),
-                     condition, warnings, torque_rms, len(torque.lhs) if use_torque else 0)
+                     condition, warnings, torque_rms, len(torque.lhs) if use_torque else 0,
+                     params[k_count:k_count + e_count], sig[k_count:k_count + e_count], thrust_per_m)
 
 
 def _rescale_by_accelerometer(params: np.ndarray, cov: np.ndarray, data: FitInput, y: np.ndarray, mass_kg: float,
-                              bias: str, n_rotors: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Keep the ratios k_i / mean(k) of the joint fit, refit their common scale (and the bias)
-    on the accelerometer rows alone. Returns (params, 1-sigma, predicted a_z); the 1-sigma
-    combines the ratio's (from the joint covariance) and the scale's in quadrature."""
+                              bias: str, n_rotors: int, extra: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Keep the ratios k_i / mean(k) of the joint fit, refit their common scale (and the extra
+    regressors and the bias) on the accelerometer rows alone. Returns (params, 1-sigma, predicted
+    a_z); the 1-sigma of k_i combines the ratio's (from the joint covariance) and the scale's in
+    quadrature."""
     k = params[:n_rotors]
     ratio = k / k.mean()
     # d ratio / d k = (I - ratio 1^T / n) / mean(k)
     jac = (np.eye(n_rotors) - np.outer(ratio, np.ones(n_rotors)) / n_rotors) / k.mean()
     ratio_sig = np.sqrt(np.clip(np.diag(jac @ cov[:n_rotors, :n_rotors] @ jac.T), 0.0, None))
-    cols = (data.speed_sq @ ratio / mass_kg)[:, None]
+    cols = np.hstack([(data.speed_sq @ ratio / mass_kg)[:, None], extra])
     if bias == "fit":
         cols = np.hstack([cols, np.ones((len(y), 1))])
     scale = np.sqrt(np.mean(cols ** 2, axis=0))  # unit columns: pinv must not drop the bias direction
@@ -225,10 +235,9 @@ def _rescale_by_accelerometer(params: np.ndarray, cov: np.ndarray, data: FitInpu
     alpha, alpha_sig = float(sol[0]), float(np.sqrt(max(cov_s[0, 0], 0.0)))
     out = params.copy()
     out[:n_rotors] = alpha * ratio
-    if bias == "fit":
-        out[-1] = float(sol[-1])
+    out[n_rotors:] = sol[1:]
     sig = np.sqrt(np.concatenate([(alpha * ratio_sig) ** 2 + (ratio * alpha_sig) ** 2,
-                                  [cov_s[-1, -1]] if bias == "fit" else []]))
+                                  np.clip(np.diag(cov_s)[1:], 0.0, None)]))
     return out, sig, pred
 
 
@@ -247,11 +256,16 @@ def _row_weights(n_accel: int, n_torque: int, sigmas: np.ndarray) -> np.ndarray:
 
 def residuals_with(data: FitInput, mass_kg: float, coefficients: np.ndarray, bias: str) -> np.ndarray:
     """Residuals of given coefficients (e.g. the vehicle.yaml in use) on the same samples,
-    with the bias handled as in the fit (``fit``: the mean residual is the bias)."""
+    with the bias handled as in the fit (``fit``: a fitted constant) and the extra regressors
+    (drag) refitted."""
     pred = data.speed_sq @ np.asarray(coefficients, dtype=float) / mass_kg
     res = np.asarray(data.accel_z, dtype=float) - pred
     if bias == "groundtruth" and data.bias_z is not None:
         res = res - data.bias_z
-    elif bias == "fit":
-        res = res - float(np.mean(res))
+    cols = [np.asarray(data.extra, dtype=float).reshape(len(res), -1)] if data.extra is not None else []
+    if bias == "fit":
+        cols.append(np.ones((len(res), 1)))
+    if cols:
+        A = np.hstack(cols)
+        res = res - A @ np.linalg.lstsq(A, res, rcond=None)[0]
     return res

@@ -18,6 +18,8 @@ from . import convert
 from .errors import MapError
 from .features import DEFAULT_SCENE, find_vid_sim, synthesize
 from .sourcemap import QUAT_ORDERS, TIME_UNITS, load_map, preset_names
+from .sync import DEFAULT_MAX_LAG_S, gyro_mocap_sync
+from .truth import applied_sync_line, gyro_sync_lines, synced_groundtruth
 from .writer import DEFAULT_IMU_NOISE, DEFAULT_ROTOR_NOISE, write_dataset
 
 EXIT_USAGE, EXIT_DATA = 2, 1
@@ -75,6 +77,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--velocity-cutoff", type=_positive, default=convert.VELOCITY_CUTOFF_HZ, metavar="HZ",
                    help="low-pass cutoff of the position before differentiating, when the mocap has no "
                         f"velocity (default {convert.VELOCITY_CUTOFF_HZ:g})")
+    p.add_argument("--sync", action="store_true",
+                   help="measure the mocap clock offset and the IMU-mocap rotation (as vid-eval mocap-truth) and "
+                        "write the ground truth in the IMU's clock and frame (R_WI = R_WM R_IM^T); the synthetic "
+                        "features then follow the IMU, as a calibrated camera does")
     f = p.add_argument_group("synthetic features (a log without cameras)")
     f.add_argument("--synthetic-features", action="store_true",
                    help="simulate stereo feature tracks (feat0, cam0/cam1 sensor.yaml, landmarks.csv) along "
@@ -102,6 +108,12 @@ def run(args: argparse.Namespace) -> int:
                            rotor_coefficients=args.rotor_coefficients or [],
                            velocity_cutoff_hz=args.velocity_cutoff)
     log, lines = convert.convert(smap, Path(args.input), opts)
+    if args.sync:
+        if log.t_gt is None:
+            raise MapError("--sync needs the mocap poses (a 'mocap' stream in the map)")
+        sync = gyro_mocap_sync(log.t_imu, log.gyro, log.t_gt, log.q_WI_wxyz, DEFAULT_MAX_LAG_S)
+        log.t_gt, log.q_WI_wxyz = synced_groundtruth(log.t_gt, log.q_WI_wxyz, sync)
+        lines += gyro_sync_lines(sync) + [f"applied: {applied_sync_line(sync)}"]
     if mav0.exists():
         shutil.rmtree(mav0)
     write_dataset(out, log, f"{args.input} (map {smap.path})")

@@ -10,6 +10,9 @@
 * :func:`gyro_mocap_sync`: d from |w_I| vs |w_M| (rotation-invariant), then R_IM from the rate
   vectors (Wahba's problem: scipy ``Rotation.align_vectors`` on the centred vectors, w_I = b +
   R_IM w_M with a gyro bias b), then d again on the vectors rotated into I, and R_IM again.
+* :func:`thrust_offset`: the thrust stream's offset against the accelerometer, from the fit
+  a_z = s T/m(t + d) + b - D_z v_z: the body drag term is a regressor of the fit, because the
+  drag correlates with the velocity and fakes a lag at low frequency in a plain correlation.
 * Each number comes with a standard error from its spread over 5 consecutive parts of the log:
   a flight that hardly rotates cannot pin them down, and says so.
 """
@@ -53,11 +56,17 @@ def _corr(a: np.ndarray, b: np.ndarray) -> float:
 
 
 def _r2(y: np.ndarray, X: np.ndarray) -> float:
-    """R^2 of the least-squares fit of y on the columns of X (which include a constant)."""
-    coef, *_ = np.linalg.lstsq(X, y, rcond=None)
-    r = y - X @ coef
+    """R^2 of the least-squares fit of y on the columns of X (which include a constant): the
+    explained share b^T G^-1 b / |y_c|^2 of the centred, unit-scaled columns (G = X_c^T X_c,
+    b = X_c^T y_c; a few columns, so the small normal equations are well conditioned and ~3x
+    cheaper than an SVD of the whole design, which the lag search solves hundreds of times)."""
+    Xc = X - X.mean(axis=0)
+    norm = np.sqrt(np.einsum("ij,ij->j", Xc, Xc))
+    Xn = Xc[:, norm > 0] / norm[norm > 0]
     yc = y - y.mean()
-    return float(1.0 - (r @ r) / (yc @ yc))
+    b = Xn.T @ yc
+    coef, *_ = np.linalg.lstsq(Xn.T @ Xn, b, rcond=None)
+    return float((b @ coef) / (yc @ yc))
 
 
 def lag(t_ref_ns: np.ndarray, x_ref: np.ndarray, t_other_ns: np.ndarray, x_other: np.ndarray,
@@ -103,6 +112,28 @@ def _best(tk, xk, fixed, spline, dt, max_lag_s):
     res = minimize_scalar(lambda d: -score(d), bounds=(coarse - dt, coarse + dt),
                           method="bounded", options={"xatol": 1e-7})
     return float(res.x), coarse, -float(res.fun)
+
+
+@dataclass
+class ThrustOffset:
+    fitted: Lag      # thrust stamps - IMU stamps from a_z ~ s T/m + b (- D_z v_z with the velocity)
+    plain: Lag       # the same from the plain correlation of a_z and T/m (no drag regressor)
+    scale: float     # s of the fit at the fitted offset
+    drag_z: float    # D_z [1/s] of the fit (NaN without the velocity)
+
+
+def thrust_offset(t_imu_ns: np.ndarray, accel_z: np.ndarray, t_thrust_ns: np.ndarray, thrust_per_m: np.ndarray,
+                  v_z: Optional[np.ndarray] = None, max_lag_s: float = DEFAULT_MAX_LAG_S) -> ThrustOffset:
+    """Thrust stamps - IMU stamps (module docstring): ``thrust_per_m`` [m/s^2] at the thrust
+    stamps, ``v_z`` the body-z velocity at the IMU stamps (None: no drag term, plain correlation)."""
+    plain = lag(t_imu_ns, accel_z, t_thrust_ns, thrust_per_m, max_lag_s)
+    fitted = plain if v_z is None else lag(t_imu_ns, accel_z, t_thrust_ns, thrust_per_m, max_lag_s,
+                                           regressors=np.asarray(v_z)[:, None])
+    shifted = np.interp((t_imu_ns - t_thrust_ns[0]).astype(float) + fitted.offset_s * 1e9,
+                        (t_thrust_ns - t_thrust_ns[0]).astype(float), thrust_per_m)
+    X = np.column_stack([shifted, np.ones_like(shifted)] + ([] if v_z is None else [v_z]))
+    coef, *_ = np.linalg.lstsq(X, accel_z, rcond=None)
+    return ThrustOffset(fitted, plain, float(coef[0]), float("nan") if v_z is None else float(-coef[2]))
 
 
 def mocap_body_rate(t_ns: np.ndarray, q_WM_wxyz: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:

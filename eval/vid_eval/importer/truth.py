@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Dict, List, Optional
+from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -18,7 +18,7 @@ from ..geometry import rot_from_wxyz, wxyz_from_rot
 from ..loaders import load_imu, load_rotor_speeds, load_vehicle, load_yaml_mapping
 from ..table_reader import read_table
 from .force_truth import FORCE_CUTOFF_HZ, DragFit, ForceTruth, drag_fit, force_truth
-from .sync import DEFAULT_MAX_LAG_S, GyroSync, Lag, gyro_mocap_sync, lag
+from .sync import DEFAULT_MAX_LAG_S, GyroSync, Lag, gyro_mocap_sync, thrust_offset
 from .writer import write_csv, write_gt
 
 GT = "state_groundtruth_estimate0"
@@ -104,20 +104,26 @@ class TruthReport:
 
 
 def _thrust_lag(f: Folder, gt_offset_s: float, R_IM: Rotation, max_lag_s: float):
-    """Thrust stamps - IMU stamps from a_z ~ s T/m + b - D_z v_z (body drag as a regressor; v_I
-    from the mocap velocity, rotated into the IMU frame with R_IM unless already applied)."""
+    """Thrust stamps - IMU stamps from a_z ~ s T/m + b - D_z v_z (sync.thrust_offset; v_I from the
+    mocap velocity, rotated into the IMU frame with R_IM unless already applied)."""
     R = rot_from_wxyz(f.q_WI)
     v_I = R_IM.apply(R.inv().apply(f.v_W))
     t_q = (f.t_imu - f.t_gt[0]).astype(float) + gt_offset_s * 1e9
     v_z = np.interp(t_q, (f.t_gt - f.t_gt[0]).astype(float), v_I[:, 2])
-    t_n = f.thrust_n / f.mass_kg
-    plain = lag(f.t_imu, f.accel[:, 2], f.t_thrust, t_n, max_lag_s)
-    fitted = lag(f.t_imu, f.accel[:, 2], f.t_thrust, t_n, max_lag_s, regressors=v_z[:, None])
-    shifted = np.interp((f.t_imu - f.t_thrust[0]).astype(float) + fitted.offset_s * 1e9,
-                        (f.t_thrust - f.t_thrust[0]).astype(float), t_n)
-    X = np.column_stack([shifted, np.ones_like(shifted), v_z])
-    coef, *_ = np.linalg.lstsq(X, f.accel[:, 2], rcond=None)
-    return fitted, plain, float(coef[0]), float(-coef[2])
+    off = thrust_offset(f.t_imu, f.accel[:, 2], f.t_thrust, f.thrust_n / f.mass_kg, v_z, max_lag_s)
+    return off.fitted, off.plain, off.scale, off.drag_z
+
+
+def synced_groundtruth(t_gt_ns: np.ndarray, q_WM_wxyz: np.ndarray, sync: GyroSync) -> Tuple[np.ndarray, np.ndarray]:
+    """The ground truth in the IMU's clock and frame: stamps minus the mocap offset, orientation
+    R_WI = R_WM R_IM^T (what ``--apply-sync`` writes and ``vid-import --sync`` uses)."""
+    t_ns = t_gt_ns - int(round(sync.lag.offset_s * 1e9))
+    return t_ns, wxyz_from_rot(rot_from_wxyz(q_WM_wxyz) * sync.R_IM.inv())
+
+
+def applied_sync_line(sync: GyroSync) -> str:
+    """The report line of an applied sync."""
+    return f"{GT}: stamps {-sync.lag.offset_s * 1e3:+.3f} ms, orientation R_WI = R_WM R_IM^T"
 
 
 def mocap_truth(folder: Path, cutoff_hz: float = FORCE_CUTOFF_HZ, max_lag_s: float = DEFAULT_MAX_LAG_S,
@@ -131,10 +137,9 @@ def mocap_truth(folder: Path, cutoff_hz: float = FORCE_CUTOFF_HZ, max_lag_s: flo
     applied = []
     gt_offset, R_IM = gyro.lag.offset_s, gyro.R_IM
     if apply_sync:
-        f.t_gt = f.t_gt - int(round(gyro.lag.offset_s * 1e9))
-        f.q_WI = wxyz_from_rot(rot_from_wxyz(f.q_WI) * gyro.R_IM.inv())  # R_WI = R_WM R_MI
+        f.t_gt, f.q_WI = synced_groundtruth(f.t_gt, f.q_WI, gyro)
         write_gt(f.mav0, f.t_gt, f.p_W, f.q_WI, f.v_W)
-        applied.append(f"{GT}: stamps {-gyro.lag.offset_s * 1e3:+.3f} ms, orientation R_WI = R_WM R_IM^T")
+        applied.append(applied_sync_line(gyro))
         gt_offset, R_IM = 0.0, Rotation.identity()
     thrust, plain, scale, drag_z = _thrust_lag(f, gt_offset, R_IM, max_lag_s)
     if apply_thrust_lag:
@@ -147,8 +152,8 @@ def mocap_truth(folder: Path, cutoff_hz: float = FORCE_CUTOFF_HZ, max_lag_s: flo
     return TruthReport(gyro, thrust, plain, scale, drag_z, ft, drag_fit(ft.F_I_per_m, ft.v_I), applied)
 
 
-def report_lines(r: TruthReport, cutoff_hz: float) -> List[str]:
-    g = r.gyro
+def gyro_sync_lines(g: GyroSync) -> List[str]:
+    """The two lines of the mocap clock offset and the IMU-mocap rotation."""
     rv = g.R_IM.as_rotvec(degrees=True)
     return [
         f"mocap vs gyro: mocap stamps - IMU stamps = {g.lag.text()} "
@@ -157,6 +162,12 @@ def report_lines(r: TruthReport, cutoff_hz: float) -> List[str]:
         f"IMU vs mocap body: rotation R_IM {np.linalg.norm(rv):.3f} +- {g.angle_stderr_deg:.3f} deg (rotation vector "
         f"[{rv[0]:+.3f}, {rv[1]:+.3f}, {rv[2]:+.3f}] deg; gyro bias fitted alongside [{g.bias[0]:+.4f}, "
         f"{g.bias[1]:+.4f}, {g.bias[2]:+.4f}] rad/s); rate residual RMS {g.rms_rad_s:.4f} rad/s",
+    ]
+
+
+def report_lines(r: TruthReport, cutoff_hz: float) -> List[str]:
+    return [
+        *gyro_sync_lines(r.gyro),
         f"thrust vs accelerometer z: thrust stamps - IMU stamps = {r.thrust.text()} "
         f"(fit a_z = s T/m + b - D_z v_z: s {r.thrust_scale:.4f}, D_z {r.drag_z:.3f} 1/s, R^2 {r.thrust.correlation:.4f}); "
         f"without the drag term {r.thrust_plain.offset_s * 1e3:+.3f} ms",
