@@ -317,6 +317,8 @@ void Pipeline::process_imu(const ImuInput& in) {
       }
     } else if (auto r = initializer_.add(in.t, in.gyro, in.accel, in.T_m)) {
       initialize(r->t_ns, r->x, r->P);
+    } else if (!initializer_.last_rejection().empty()) {
+      status_message_ = "no still or hovering window (the last: " + initializer_.last_rejection() + ")";
     }
     last_input_ = in;
     if (status_ == FilterStatus::kOk) emit(in.t);
