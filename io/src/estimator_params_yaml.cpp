@@ -59,6 +59,7 @@ const DoubleField kDoubles[] = {
     VID_FIELD(health_max_chi2_rejected_fraction),
     VID_FIELD(health_starvation_s),
     VID_FIELD(init_window_s),
+    VID_FIELD(init_lowpass_s),
     VID_FIELD(init_accel_std_max),
     VID_FIELD(init_gyro_std_max),
     VID_FIELD(init_gravity_tolerance),

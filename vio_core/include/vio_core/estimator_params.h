@@ -166,8 +166,11 @@ struct EstimatorParams {
   // --- initialization ---
   InitMode init_mode = InitMode::kStatic;  ///< static/hover window, or the first ground-truth sample (evaluation only)
   double init_window_s = 0.5;            ///< averaging window for static/hover init
-  double init_accel_std_max = 0.3;       ///< accel std beyond the white noise above this -> moving
-  double init_gyro_std_max = 0.05;       ///< gyro std beyond the white noise [rad/s]
+  /// The still/hover test judges the spread of init_lowpass_s moving averages of the samples
+  /// (removes rotor vibration, keeps motion below ~1 / (2 init_lowpass_s) Hz); 0: raw samples [s].
+  double init_lowpass_s = 0.1;
+  double init_accel_std_max = 0.3;       ///< low-passed accel std beyond the white noise above this -> moving [m/s^2]
+  double init_gyro_std_max = 0.05;       ///< low-passed gyro std beyond the white noise [rad/s]
   double init_gravity_tolerance = 0.5;   ///< | |a_mean| - g | must stay below [m/s^2]
   double init_freefall_thrust_ratio = 0.3;  ///< T/m below ratio*g with |a| small -> free fall
   double init_sigma_roll_pitch = 0.02;   ///< [rad]
