@@ -293,6 +293,10 @@ void Pipeline::process_imu(const ImuInput& in) {
     gyro_history_.push_back({in.t, in.gyro});
     while (in.t - gyro_history_.front().t_ns > kTdRateHalfWindowNs) gyro_history_.pop_front();
   }
+  if (status_ == FilterStatus::kWaitingForInit && p.init_mode != InitMode::kGroundTruth) {
+    init_from_sensors(in);  // pipeline_init.cpp
+    return;
+  }
   if (status_ == FilterStatus::kWaitingForInit) {
     while (!frame_queue_.empty() && imu_clock(frame_queue_.front().t_ns) <= in.t) {
       frame_queue_.pop_front();
@@ -305,6 +309,7 @@ void Pipeline::process_imu(const ImuInput& in) {
           set_force_from_body(x, p.force_frame, x.T_WI.q.conjugate() * (*last_force_W_ / config_.vehicle.mass_kg));
         }
         initialize(gt->t_ns, x, initial_covariance(p, x.T_WI.q));
+        record_init(gt->t_ns, "groundtruth");
         if (gt->t_ns < in.t) {
           // Start at the row's own time and propagate to this sample (its rates held back over
           // the few ms): taking the row as the state at t would be one IMU period late.
@@ -315,10 +320,6 @@ void Pipeline::process_imu(const ImuInput& in) {
           return;
         }
       }
-    } else if (auto r = initializer_.add(in.t, in.gyro, in.accel, in.T_m)) {
-      initialize(r->t_ns, r->x, r->P);
-    } else if (!initializer_.last_rejection().empty()) {
-      status_message_ = "no still or hovering window (the last: " + initializer_.last_rejection() + ")";
     }
     last_input_ = in;
     if (status_ == FilterStatus::kOk) emit(in.t);
