@@ -135,21 +135,52 @@ std::optional<InitResult> DynamicInitializer::try_window() {
     reason_ = "too few stereo features tracked through the window (" + std::to_string(tracks.size()) + ")";
     return std::nullopt;
   }
-  std::vector<align::ImuRow> rows;
-  for (const ImuSample3& s : imu_) rows.push_back({s.t, s.w, s.a});
   std::vector<TimeNs> times;
   for (int k : used) times.push_back(frames_[k].t_ns);
-  const align::WindowIntegrals w = align::integrate_window(rows, times);
+  const auto integrate = [&](const Eigen::Vector3d& b_g) {
+    std::vector<align::ImuRow> rows;
+    for (const ImuSample3& s : imu_) rows.push_back({s.t, s.w - b_g, s.a});
+    return align::integrate_window(rows, times);
+  };
   std::vector<Eigen::Isometry3d> T_IC{cameras_[0].T_IC, cameras_[1].T_IC};
   const CameraCalib& c0 = cameras_[0];
   const double sigma_norm = params_.pixel_noise_px / (0.5 * (c0.intrinsics[0] + c0.intrinsics[1]));
-  const std::optional<align::FramePositions> pos = align::solve_frame_positions(tracks, w.R_Kk, T_IC, sigma_norm, &reason_);
-  if (!pos) return std::nullopt;
+  // Gyro bias: real IMUs have up to 0.08 rad/s (euroc_like: 0.077), which turns the window's
+  // rotations by 0.08 rad; solved with the positions from the bearings, re-integrated each time.
+  Eigen::Vector3d b_g = Eigen::Vector3d::Zero();
+  align::WindowIntegrals w;
+  std::optional<align::FramePositions> pos;
+  for (int it = 0; it < 4; ++it) {
+    w = integrate(b_g);
+    constexpr double h = 1e-4;
+    std::vector<Eigen::Matrix3d> J_bg(w.R_Kk.size(), Eigen::Matrix3d::Zero());
+    for (int i = 0; i < 3; ++i) {  // the gyro enters as w - b_g
+      const align::WindowIntegrals wp = integrate(b_g + h * Eigen::Vector3d::Unit(i));
+      for (std::size_t k = 0; k < J_bg.size(); ++k) J_bg[k].col(i) = so3::log(w.R_Kk[k].transpose() * wp.R_Kk[k]) / h;
+    }
+    pos = align::solve_frame_positions(tracks, w.R_Kk, T_IC, sigma_norm, &reason_, J_bg);
+    if (!pos) return std::nullopt;
+    b_g += pos->d_bg;
+    cov_b_g_ = pos->cov_bg;
+    if (pos->d_bg.norm() < 1e-4) break;
+  }
+  // The positions and their covariance of the joint solve (the bias's uncertainty included).
+  w = integrate(b_g);
+  b_g_ = b_g;
   diag_.landmarks = pos->landmarks;
   diag_.observations = pos->observations;
   diag_.visual_chi2_per_dof = pos->chi2_per_dof;
+  // The gyro bias's error turns the alphas: d alpha / d b_g numerically, times its covariance.
+  const int K = static_cast<int>(w.alpha.size()) - 1;
+  Eigen::MatrixXd Ja(3 * K, 3);
+  for (int i = 0; i < 3; ++i) {
+    constexpr double h = 1e-4;
+    const align::WindowIntegrals wp = integrate(b_g + h * Eigen::Vector3d::Unit(i));
+    for (int k = 0; k < K; ++k) Ja.block<3, 1>(3 * k, i) = (wp.alpha[k] - w.alpha[k]) / h;
+  }
   const align::AlignedState s = align::solve_gravity_velocity(*pos, w, params_.accel_noise_density,
-                                                              params_.init_sigma_accel_bias, params_.gravity);
+                                                              params_.init_sigma_accel_bias, params_.gravity,
+                                                              Ja * cov_b_g_ * Ja.transpose());
   diag_.inertial_chi2_per_dof = s.chi2_per_dof;
   if (!s.cov.allFinite() || !s.v_I.allFinite()) {
     reason_ = "gravity and velocity not determined";
@@ -166,6 +197,7 @@ InitResult DynamicInitializer::hand_over(const align::AlignedState& s) const {
   const Eigen::Matrix3d R = r.x.T_WI.q.toRotationMatrix();
   r.x.v_WI = R * s.v_I;
   r.x.b_a = s.b_a;
+  r.x.b_g = b_g_;
   if (params_.mode == PropagationMode::kDynamics) {
     // External force: what the accelerometer measures beyond the thrust, last 0.1 s.
     Eigen::Vector3d f = Eigen::Vector3d::Zero();
@@ -191,6 +223,8 @@ InitResult DynamicInitializer::hand_over(const align::AlignedState& s) const {
   const int idx[3] = {imu_idx::kTheta, imu_idx::kV, imu_idx::kBa};
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b) r.P.block<3, 3>(idx[a], idx[b]) = C.block<3, 3>(3 * a, 3 * b);
+  // Gyro bias from the window's rotations (its correlation with the rest left out).
+  r.P.block<3, 3>(imu_idx::kBg, imu_idx::kBg) = cov_b_g_;
   return r;
 }
 

@@ -75,15 +75,19 @@ WindowIntegrals integrate_window(const std::vector<ImuRow>& imu, const std::vect
 std::optional<FramePositions> solve_frame_positions(const std::vector<Track>& tracks,
                                                     const std::vector<Eigen::Matrix3d>& R_Kk,
                                                     const std::vector<Eigen::Isometry3d>& T_IC, double sigma_norm,
-                                                    std::string* why) {
+                                                    std::string* why, const std::vector<Eigen::Matrix3d>& J_bg) {
   const int K = static_cast<int>(R_Kk.size()) - 1;  // frames 0..K-1 have unknown positions
   const int J = static_cast<int>(tracks.size());
-  const int n = 3 * K + 3 * J;
+  const bool with_bg = !J_bg.empty();
+  const int ib = 3 * K + 3 * J;  // the gyro-bias correction's columns (with_bg)
+  const int n = ib + (with_bg ? 3 : 0);
+  std::vector<std::vector<Eigen::Vector3d>> X_prev(J);  // X_I of each bearing, previous pass
   std::vector<std::vector<double>> depth(J);  // per bearing, from the previous pass
   std::vector<std::vector<bool>> keep(J);
   for (int j = 0; j < J; ++j) {
     depth[j].assign(tracks[j].obs.size(), 1.0);
     keep[j].assign(tracks[j].obs.size(), true);
+    X_prev[j].assign(tracks[j].obs.size(), Eigen::Vector3d::Zero());
   }
   Eigen::VectorXd x;
   Eigen::MatrixXd H;
@@ -112,9 +116,23 @@ std::optional<FramePositions> solve_frame_positions(const std::vector<Track>& tr
           H.block<3, 3>(ip, iL) -= JL.transpose() * JL;
           b.segment<3>(ip) -= JL.transpose() * rhs;
         }
+        if (with_bg && pass > 0) {
+          // R_Kk(b + d) = R_Kk Exp(J_k d): X_I gains [X_I]x J_k d (X_I of the previous pass).
+          const Eigen::Matrix<double, 2, 3> JB = wgt * M * R_CI * so3::skew(X_prev[j][o]) * J_bg[br.frame];
+          H.block<3, 3>(ib, ib) += JB.transpose() * JB;
+          H.block<3, 3>(ib, iL) += JB.transpose() * JL;
+          H.block<3, 3>(iL, ib) += JL.transpose() * JB;
+          if (br.frame < K) {
+            H.block<3, 3>(ib, ip) -= JB.transpose() * JL;
+            H.block<3, 3>(ip, ib) -= JL.transpose() * JB;
+          }
+          b.segment<3>(ib) += JB.transpose() * rhs;
+        }
         ++nobs;
       }
     }
+    if (with_bg && pass == 0)  // no bias column yet
+      H.block<3, 3>(ib, ib) = Eigen::Matrix3d::Identity() * H.diagonal().head(ib).maxCoeff();
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(H);
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
         ldlt.vectorD().minCoeff() <= 1e-12 * ldlt.vectorD().maxCoeff()) {
@@ -122,19 +140,24 @@ std::optional<FramePositions> solve_frame_positions(const std::vector<Track>& tr
       return std::nullopt;
     }
     x = ldlt.solve(b);
-    // Depths and normalized residuals for the next pass.
+    // Depths and normalized residuals for the next pass; outliers beyond 4 sigma of the noise,
+    // or of the residuals' own scale where that is larger (rotations still off by a gyro bias).
+    const double outlier_r2 = 16.0 * std::max(1.0, chi2 / std::max(1, nobs) / 2.0);
     chi2 = 0.0;
     for (int j = 0; j < J; ++j) {
       const Eigen::Vector3d L = x.segment<3>(3 * K + 3 * j);
       for (std::size_t o = 0; o < tracks[j].obs.size(); ++o) {
         const Bearing& br = tracks[j].obs[o];
         const Eigen::Vector3d p = br.frame < K ? Eigen::Vector3d(x.segment<3>(3 * br.frame)) : Eigen::Vector3d::Zero();
-        const Eigen::Vector3d X_C = T_IC[br.cam].inverse() * (R_Kk[br.frame].transpose() * (L - p));
+        Eigen::Vector3d X_I = R_Kk[br.frame].transpose() * (L - p);
+        if (with_bg && pass > 0) X_I += so3::skew(X_prev[j][o]) * J_bg[br.frame] * x.segment<3>(ib);
+        const Eigen::Vector3d X_C = T_IC[br.cam].inverse() * X_I;
+        X_prev[j][o] = X_I;
         const double r2 = ((X_C.head<2>() / X_C.z() - br.xy) / sigma_norm).squaredNorm();
         if (!keep[j][o]) continue;
-        if (pass > 0) chi2 += r2;
+        chi2 += r2;
         depth[j][o] = std::max(X_C.z(), 0.1);
-        if (pass == 1 && (X_C.z() < 0.1 || r2 > 16.0)) keep[j][o] = false;
+        if (pass == 1 && (X_C.z() < 0.1 || r2 > outlier_r2)) keep[j][o] = false;
       }
     }
   }
@@ -153,6 +176,12 @@ std::optional<FramePositions> solve_frame_positions(const std::vector<Track>& tr
   E.topRows(3 * K).setIdentity();
   out.cov = Eigen::LDLT<Eigen::MatrixXd>(H).solve(E).topRows(3 * K) * std::max(1.0, out.chi2_per_dof);
   out.cov = 0.5 * (out.cov + out.cov.transpose()).eval();
+  if (with_bg) {
+    out.d_bg = x.segment<3>(ib);
+    Eigen::MatrixXd Eb = Eigen::MatrixXd::Zero(n, 3);
+    Eb.bottomRows(3).setIdentity();
+    out.cov_bg = Eigen::LDLT<Eigen::MatrixXd>(H).solve(Eb).bottomRows(3) * std::max(1.0, out.chi2_per_dof);
+  }
   return out;
 }
 
@@ -162,7 +191,7 @@ double alpha_covariance(double a, double b) {
 }
 
 AlignedState solve_gravity_velocity(const FramePositions& pos, const WindowIntegrals& w, double accel_density,
-                                    double sigma_ba, double gravity) {
+                                    double sigma_ba, double gravity, const Eigen::MatrixXd& alpha_cov_extra) {
   const int K = static_cast<int>(w.tau.size()) - 1;
   // 3K x 3K: visual + accelerometer noise of alpha. The visual part is doubled: over
   // Monte-Carlo draws (tests/vio_core/test_dynamic_init.cpp) the velocity error from 0.5 px bearing
@@ -171,6 +200,7 @@ AlignedState solve_gravity_velocity(const FramePositions& pos, const WindowInteg
   // 1.2 instead of 1.36 (vid17_like starts: 2.5 by component).
   constexpr double kVisualCovarianceScale = 2.0;
   Eigen::MatrixXd S = pos.cov * kVisualCovarianceScale;
+  if (alpha_cov_extra.rows() == S.rows()) S += alpha_cov_extra;
   Eigen::VectorXd z(3 * K);
   for (int i = 0; i < K; ++i) {
     z.segment<3>(3 * i) = pos.p[i] - w.alpha[i];

@@ -1,9 +1,9 @@
 #pragma once
 /// @file dynamic_initializer.h
 /// @brief In-flight initialization from a short window of stereo frames and IMU samples
-/// (README "Initialization", init_mode auto): gravity direction, velocity and accelerometer
-/// bias of the last frame from inertial_alignment.h, with their covariance; gyro bias 0 with
-/// its prior, position and yaw the gauge as in the static initializer, in dynamics mode the
+/// (README "Initialization", init_mode auto): gravity direction, velocity, accelerometer and
+/// gyro bias of the last frame from inertial_alignment.h, with their covariance; position and
+/// yaw the gauge as in the static initializer, in dynamics mode the
 /// external force from the last 0.1 s of a - b_a - T/m.
 
 #include <Eigen/Core>
@@ -63,6 +63,8 @@ class DynamicInitializer {
   std::deque<FeatureFrame> frames_;
   std::string reason_;
   DynamicInitDiagnostics diag_;
+  Eigen::Vector3d b_g_ = Eigen::Vector3d::Zero();  ///< of the last window
+  Eigen::Matrix3d cov_b_g_ = Eigen::Matrix3d::Zero();
 };
 
 }  // namespace vid

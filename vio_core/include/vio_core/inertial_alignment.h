@@ -60,6 +60,8 @@ struct FramePositions {
   std::vector<Eigen::Vector3d> p;  ///< p_k in I_K (p_K = 0)
   Eigen::MatrixXd cov;             ///< 3K x 3K over frames 0..K-1
   double chi2_per_dof = 0.0;       ///< of the weighted bearing residuals (1 when the noise fits)
+  Eigen::Vector3d d_bg = Eigen::Vector3d::Zero();  ///< gyro-bias correction (with J_bg)
+  Eigen::Matrix3d cov_bg = Eigen::Matrix3d::Zero();
   int landmarks = 0;
   int observations = 0;
 };
@@ -67,11 +69,13 @@ struct FramePositions {
 /// @brief Least squares over the landmarks and frame positions with the rotations R_Kk held;
 /// each bearing gives two rows (x_C - x z_C, y_C - y z_C) weighted by 1 / (sigma_norm z_C),
 /// twice (depths from the first pass), dropping bearings beyond 4 sigma. The covariance is
-/// scaled by max(1, chi2 / dof). @p why says what failed.
+/// scaled by max(1, chi2 / dof). @p why says what failed. With @p J_bg (per frame, the right
+/// perturbation of R_Kk per unit gyro bias: R_Kk(b + d) = R_Kk Exp(J_k d)) the gyro-bias
+/// correction d is solved along (linearized about the previous pass's landmarks).
 std::optional<FramePositions> solve_frame_positions(const std::vector<Track>& tracks,
                                                     const std::vector<Eigen::Matrix3d>& R_Kk,
                                                     const std::vector<Eigen::Isometry3d>& T_IC, double sigma_norm,
-                                                    std::string* why);
+                                                    std::string* why, const std::vector<Eigen::Matrix3d>& J_bg = {});
 
 /// @brief The state of the last frame.
 struct AlignedState {
@@ -84,9 +88,11 @@ struct AlignedState {
 
 /// @brief Generalized least squares for (v_I, g_I, b_a) with |g_I| = gravity (Gauss-Newton on
 /// the tangent plane) and the prior b_a ~ N(0, sigma_ba^2); accel_density [m/s^2/sqrt(Hz)] sets
-/// the covariance of the alphas (3 axes alike).
+/// the covariance of the alphas (3 axes alike); @p alpha_cov_extra (3K x 3K, optional) adds
+/// what else the alphas are uncertain by (the gyro bias's error turning them).
 AlignedState solve_gravity_velocity(const FramePositions& pos, const WindowIntegrals& w, double accel_density,
-                                    double sigma_ba, double gravity);
+                                    double sigma_ba, double gravity,
+                                    const Eigen::MatrixXd& alpha_cov_extra = Eigen::MatrixXd());
 
 /// @brief Covariance between alpha_i and alpha_k per axis for unit white noise density:
 /// int_{max(tau_i, tau_k)}^0 (u - tau_i)(u - tau_k) du.
