@@ -60,8 +60,10 @@ const DoubleField kDoubles[] = {
     VID_FIELD(health_max_chi2_rejected_fraction),
     VID_FIELD(health_starvation_s),
     VID_FIELD(init_window_s),
+    VID_FIELD(init_lowpass_s),
     VID_FIELD(init_accel_std_max),
     VID_FIELD(init_gyro_std_max),
+    VID_FIELD(init_dynamic_window_s),
     VID_FIELD(init_gravity_tolerance),
     VID_FIELD(init_freefall_thrust_ratio),
     VID_FIELD(init_sigma_roll_pitch),
@@ -84,6 +86,7 @@ const IntField kInts[] = {
     VID_FIELD(max_features_per_update),
     VID_FIELD(health_min_tested_features),
     VID_FIELD(force_jump_window),
+    VID_FIELD(init_dynamic_min_features),
 };
 const BoolField kBools[] = {
     VID_FIELD(use_fej),
@@ -112,7 +115,7 @@ EstimatorParams from_map(const YamlMap& y) {
     try {
       p.init_mode = init_mode_from_string(s);
     } catch (const std::invalid_argument&) {
-      y.fail("init_mode", "expected static or groundtruth, got '" + s + "'");
+      y.fail("init_mode", "expected auto, static or groundtruth, got '" + s + "'");
     }
   }
   if (y.has("force_frame")) {

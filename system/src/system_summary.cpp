@@ -12,6 +12,7 @@ namespace vid::system {
 
 void add_counters(PipelineCounters& a, const PipelineCounters& b) {
   a.imu_samples += b.imu_samples;
+  a.inits.insert(a.inits.end(), b.inits.begin(), b.inits.end());
   a.accel_updates += b.accel_updates;
   a.accel_rejected += b.accel_rejected;
   a.accel_used_in_jumps += b.accel_used_in_jumps;
@@ -181,6 +182,14 @@ nlohmann::json System::summary() const {
   s["status"] = to_string(pipeline_->status());
   s["status_message"] = pipeline_->status_message();
   const PipelineCounters c = counters();
+  {  // README "Initialization": every (re-)initialization, how and when
+    nlohmann::json events = nlohmann::json::array();
+    for (const InitRecord& r : c.inits)
+      if (events.size() < 200) events.push_back({{"t_ns", r.t_ns}, {"how", r.how}});
+    s["initializations"] = {{"count", c.inits.size()},
+                            {"reinitializations", c.inits.empty() ? 0 : c.inits.size() - 1},
+                            {"events", events}};
+  }
   s["counts"] = {{"estimates", estimates_},
                  {"camera_frames", frames_},
                  {"feature_frames", feature_frames_},

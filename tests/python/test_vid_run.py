@@ -335,10 +335,11 @@ def test_vid_like_presets_run(preset, rendered17, tmp_path):
 def test_euroc_preset_on_euroc_layout_folder(tmp_path):
     """config/euroc on the EuRoC-layout sample (tests/data): the preset's calibration replaces
     the folder's, its mode (imu) is used, and the sample's 64x48 images are refused as the
-    wrong size for EuRoC's 752x480 cameras (skipped, counted, run completes)."""
+    wrong size for EuRoC's 752x480 cameras (skipped, counted, run completes). The sample is too
+    short for the 1 s still window: the run says it never initialized (exit 4)."""
     out = tmp_path / "euroc"
     r = vid_run(REPO / "tests" / "data" / "euroc_sample", out, "--config", str(REPO / "config" / "euroc"))
-    assert r.returncode == 0, r.stderr
+    assert r.returncode == 4 and "never initialized" in r.stderr, r.stderr
     s = summary(out)
     assert s["mode"] == "imu"
     assert s["mode_source"].endswith("config/euroc/estimator.yaml")

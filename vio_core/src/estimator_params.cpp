@@ -25,13 +25,19 @@ ForceFrame force_frame_from_string(const std::string& s) {
 }
 
 std::string to_string(InitMode mode) {
-  return mode == InitMode::kStatic ? "static" : "groundtruth";
+  switch (mode) {
+    case InitMode::kStatic: return "static";
+    case InitMode::kGroundTruth: return "groundtruth";
+    case InitMode::kAuto: return "auto";
+  }
+  return "unknown";
 }
 
 InitMode init_mode_from_string(const std::string& s) {
   if (s == "static") return InitMode::kStatic;
   if (s == "groundtruth") return InitMode::kGroundTruth;
-  throw std::invalid_argument("unknown init mode '" + s + "' (expected static or groundtruth)");
+  if (s == "auto") return InitMode::kAuto;
+  throw std::invalid_argument("unknown init mode '" + s + "' (expected auto, static or groundtruth)");
 }
 
 }  // namespace vid

@@ -306,6 +306,10 @@ void Pipeline::process_imu(const ImuInput& in) {
     gyro_history_.push_back({in.t, in.gyro});
     while (in.t - gyro_history_.front().t_ns > kTdRateHalfWindowNs) gyro_history_.pop_front();
   }
+  if (status_ == FilterStatus::kWaitingForInit && p.init_mode != InitMode::kGroundTruth) {
+    init_from_sensors(in);  // pipeline_init.cpp
+    return;
+  }
   if (status_ == FilterStatus::kWaitingForInit) {
     while (!frame_queue_.empty() && imu_clock(frame_queue_.front().t_ns) <= in.t) {
       frame_queue_.pop_front();
@@ -318,6 +322,7 @@ void Pipeline::process_imu(const ImuInput& in) {
           set_force_from_body(x, p.force_frame, x.T_WI.q.conjugate() * (*last_force_W_ / config_.vehicle.mass_kg));
         }
         initialize(gt->t_ns, x, initial_covariance(p, x.T_WI.q));
+        record_init(gt->t_ns, "groundtruth");
         if (gt->t_ns < in.t) {
           // Start at the row's own time and propagate to this sample (its rates held back over
           // the few ms): taking the row as the state at t would be one IMU period late.
@@ -328,8 +333,6 @@ void Pipeline::process_imu(const ImuInput& in) {
           return;
         }
       }
-    } else if (auto r = initializer_.add(in.t, in.gyro, in.accel, in.T_m)) {
-      initialize(r->t_ns, r->x, r->P);
     }
     last_input_ = in;
     if (status_ == FilterStatus::kOk) emit(in.t);

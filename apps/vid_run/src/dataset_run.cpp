@@ -23,6 +23,26 @@ namespace vid::app {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+namespace {
+// A run that never initialized, or that used no camera frame, has no estimate worth an exit 0
+// (its summary.json may still show a perfect-looking ATE over a few IMU-only estimates).
+RunResult honest_end(const system::System& session, const nlohmann::json& s) {
+  if (session.status() == FilterStatus::kWaitingForInit) {
+    spdlog::error("the estimator never initialized: {} (README \"Initialization\")", session.status_message());
+    return RunResult::kNotInitialized;
+  }
+  const auto& c = s["counts"];
+  const long frames = c["camera_frames"].get<long>() + c["feature_frames"].get<long>();
+  if (frames > 0 && c["frames_processed"].get<long>() == 0) {
+    spdlog::error("the estimator used none of the {} camera frames ({} skipped by the filter: before its "
+                  "initialization or behind its state's time)",
+                  frames, c["frames_skipped_by_filter"].get<long>());
+    return RunResult::kNoFrameUsed;
+  }
+  return RunResult::kOk;
+}
+}  // namespace
+
 RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   const auto wall_start = Clock::now();
   fs::create_directories(opt.out_dir);
@@ -179,10 +199,6 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   spdlog::info("{}: {} estimates, {} frames, {:.1f} s of data in {:.1f} s ({:.1f}x real time), status {}",
                opt.out_dir.string(), session.estimates(), frames, data_s, wall_s, wall_s > 0 ? data_s / wall_s : 0.0,
                s["status"].get<std::string>());
-  if (session.status() == FilterStatus::kWaitingForInit)
-    spdlog::warn("the estimator never initialized ({}); for a hovering start with a noisy IMU raise init_accel_std_max "
-                 "(see config/sim/estimator.yaml) or use --init groundtruth",
-                 session.status_message());
   if (s.contains("ate_posyaw_m")) spdlog::info("ATE (posyaw) {:.4f} m", s["ate_posyaw_m"].get<double>());
   if (s.contains("force_rmse_world_mps2"))
     spdlog::info("force RMSE (world, posyaw-aligned: yaw {:.1f} deg) {:.4f} m/s^2",
@@ -191,7 +207,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
     spdlog::info("force RMSE (body) {:.4f} m/s^2", s["force_rmse_body_mps2"].get<double>());
   if (interrupted) return RunResult::kInterrupted;
   if (diverged) return RunResult::kDiverged;
-  return RunResult::kOk;
+  return honest_end(session, s);
 }
 
 }  // namespace vid::app

@@ -29,8 +29,8 @@ int main(int argc, char** argv) {
     app.add_option("--config", config, "preset folder or its estimator.yaml (default: the dataset's own files)");
     app.add_option("--mode", mode, "imu | dynamics (default: dynamics when rotor0/ or thrust0/ exist)")
         ->check(CLI::IsMember({"imu", "dynamics"}));
-    app.add_option("--init", init, "static | groundtruth (default: the config's init_mode)")
-        ->check(CLI::IsMember({"static", "groundtruth"}));
+    app.add_option("--init", init, "auto | static | groundtruth (default: the config's init_mode)")
+        ->check(CLI::IsMember({"auto", "static", "groundtruth"}));
     app.add_option("--features", features, "images | feat0 | auto (default: images when cam0/data.csv exists)")
         ->check(CLI::IsMember({"auto", "images", "feat0"}));
     app.add_option("--smooth", opt.smooth_lag_s,

@@ -17,6 +17,7 @@ enum class PropagationMode {
 enum class InitMode {
   kStatic,       ///< gravity-aligned from averaged accelerometer over a still/hover window
   kGroundTruth,  ///< from the first ground-truth sample (evaluation only)
+  kAuto,         ///< the still/hover window when there is one, in flight from stereo frames otherwise
 };
 
 /// @brief Frame in which the external-force state F_ext lives and follows its random walk.
@@ -34,9 +35,9 @@ PropagationMode mode_from_string(const std::string& s);
 std::string to_string(ForceFrame frame);
 /// @brief Parse "body" / "world"; throws std::invalid_argument naming the value.
 ForceFrame force_frame_from_string(const std::string& s);
-/// @brief "static" / "groundtruth".
+/// @brief "static" / "groundtruth" / "auto".
 std::string to_string(InitMode mode);
-/// @brief Parse "static" / "groundtruth"; throws std::invalid_argument naming the value.
+/// @brief Parse "static" / "groundtruth" / "auto"; throws std::invalid_argument naming the value.
 InitMode init_mode_from_string(const std::string& s);
 
 /// @brief All estimator settings. Units SI; noise densities are continuous-time.
@@ -174,10 +175,18 @@ struct EstimatorParams {
   double health_starvation_s = 1.0;
 
   // --- initialization ---
-  InitMode init_mode = InitMode::kStatic;  ///< static/hover window, or the first ground-truth sample (evaluation only)
+  /// auto: the still/hover window when there is one, in flight from init_dynamic_window_s of
+  /// stereo frames otherwise; static: only the window; groundtruth: evaluation only.
+  /// README "Initialization".
+  InitMode init_mode = InitMode::kAuto;
   double init_window_s = 0.5;            ///< averaging window for static/hover init
-  double init_accel_std_max = 0.3;       ///< accel std beyond the white noise above this -> moving
-  double init_gyro_std_max = 0.05;       ///< gyro std beyond the white noise [rad/s]
+  /// The still/hover test judges the spread of init_lowpass_s moving averages of the samples
+  /// (removes rotor vibration, keeps motion below ~1 / (2 init_lowpass_s) Hz); 0: raw samples [s].
+  double init_lowpass_s = 0.1;
+  double init_accel_std_max = 0.3;       ///< low-passed accel std beyond the white noise above this -> moving [m/s^2]
+  double init_gyro_std_max = 0.05;       ///< low-passed gyro std beyond the white noise [rad/s]
+  double init_dynamic_window_s = 1.0;    ///< in-flight initialization: window of stereo frames [s]
+  int init_dynamic_min_features = 15;    ///< ... and the stereo tracks it needs through the window
   double init_gravity_tolerance = 0.5;   ///< | |a_mean| - g | must stay below [m/s^2]
   double init_freefall_thrust_ratio = 0.3;  ///< T/m below ratio*g with |a| small -> free fall
   double init_sigma_roll_pitch = 0.02;   ///< [rad]

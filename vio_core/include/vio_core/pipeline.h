@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "vio_core/calibration.h"
+#include "vio_core/dynamic_initializer.h"
 #include "vio_core/estimator_params.h"
 #include "vio_core/flight_phase.h"
 #include "vio_core/accel_noise.h"
@@ -108,8 +109,15 @@ struct FlightPhaseRecord {
   FlightPhase to = FlightPhase::kUnknown;  ///< kAirborne: lift-off, kLanded: touchdown
 };
 
+/// @brief An initialization (README "Initialization"): how and when.
+struct InitRecord {
+  TimeNs t_ns = 0;
+  std::string how;  ///< "still" (still/hover window), "in_flight" (stereo window), "groundtruth"
+};
+
 /// @brief Event counters.
 struct PipelineCounters {
+  std::vector<InitRecord> inits;  ///< every (re-)initialization
   long imu_samples = 0;
   long accel_updates = 0;     ///< accelerometer samples applied one by one at full weight
   /// Samples the chi2 gate held back and no force jump used: final once a sample has left
@@ -236,6 +244,11 @@ class Pipeline {
   PipelineConfig config_;
   FilterState state_;
   StaticInitializer initializer_;
+  std::unique_ptr<DynamicInitializer> dynamic_init_;  ///< init_mode auto with a stereo pair
+  /// @brief While waiting (auto / static): offer the sample and the frames up to it to the
+  /// initializers; on success initialize and process the rest as usual (pipeline_init.cpp).
+  void init_from_sensors(const ImuInput& in);
+  void record_init(TimeNs t, const char* how);
   ThrustBuffer thrust_;
   void add_noise_fit(const AccelInnovation& info);
   double nominal_accel_var() const;

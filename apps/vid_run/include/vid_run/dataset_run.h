@@ -41,8 +41,9 @@ struct RunOptions {
   bool write_tracks = false;
 };
 
-/// @brief How a run ended (the program's exit code follows it).
-enum class RunResult { kOk = 0, kDiverged = 3, kInterrupted = 130 };
+/// @brief How a run ended (the program's exit code follows it; apps/vid_run/README.md "Exit
+/// codes"): never initialized (status waiting_for_init) and no camera frame used are failures.
+enum class RunResult { kOk = 0, kDiverged = 3, kNotInitialized = 4, kNoFrameUsed = 5, kInterrupted = 130 };
 
 /// @brief Run the estimator over a dataset and write every output; summary.json is always
 /// written, also when the run is interrupted or diverges.
