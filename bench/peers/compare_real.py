@@ -31,7 +31,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import pathlib
+import platform
 import shlex
 import sys
 import time
@@ -168,7 +170,15 @@ def score_window(args, wname: str, seq: pathlib.Path, rows: dict) -> dict:
 
 
 def render(args, results: dict, scores: dict) -> str:
-    lines = []
+    cpu = next((ln.split(":", 1)[1].strip() for ln in pathlib.Path("/proc/cpuinfo").read_text().splitlines()
+                if ln.startswith("model name")), "unknown")
+    loads = [r["load_before"] for w in scores for r in results[w]["rows"].values()]
+    ended = max(r["ended"] for w in scores for r in results[w]["rows"].values())
+    lines = [f"Machine: {cpu}, {os.cpu_count()} cores, Linux {platform.release()}; every run pinned to core "
+             f"{args.core}, one run each, last run {ended}; largest 1-min load average before a run "
+             f"{max(loads):.2f}" + (" (**ms per frame provisional: other processes shared the machine**)"
+                                     if max(loads) > 1.2 else "") + ". Rows named `like_this` are the "
+             "alternatives of the Settings list.", ""]
     for wname, sc in scores.items():
         meta = results[wname]
         loads = [r["load_before"] for r in meta["rows"].values()]
@@ -182,7 +192,7 @@ def render(args, results: dict, scores: dict) -> str:
         lines.append("|---|---|---|---|---|---|---|")
         for n in [x for x in TABLE_ROWS if x in sc["rows"]] + [x for x in sc["rows"] if x not in TABLE_ROWS]:
             s = sc["rows"][n]
-            label = LABEL.get(n, n)
+            label = LABEL.get(n, f"`{n}`")
             c = s.get("common", {})
             fb = s.get("force_body", {}).get("force_rmse_mps2")
             fw = s.get("force_world", {}).get("force_rmse_mps2")
