@@ -136,6 +136,7 @@ def score_window(args, wname: str, seq: pathlib.Path, rows: dict) -> dict:
             common &= covered(trajs[n], frames, exact[n])
     t_common = frames[common]
     out = {"frames": int(len(frames)), "common_frames": int(len(t_common)),
+           "frames_span_s": float((frames[-1] - frames[0]) * 1e-9),
            "common_from_s": float((t_common[0] - frames[0]) * 1e-9) if len(t_common) else None, "rows": {}}
     for n, r in rows.items():
         d = pathlib.Path(r["dir"])
@@ -182,7 +183,8 @@ def render(args, results: dict, scores: dict) -> str:
     for wname, sc in scores.items():
         meta = results[wname]
         loads = [r["load_before"] for r in meta["rows"].values()]
-        lines.append(f"**{wname}** ({WINDOWS[wname][0]:.0f}-{min(WINDOWS[wname][1], 151):.0f} s of the flight; "
+        start = WINDOWS[wname][0]
+        lines.append(f"**{wname}** ({start:.0f}-{start + sc['frames_span_s']:.0f} s of the flight; "
                      f"{sc['common_frames']} of {sc['frames']} frames common to all rows, from "
                      f"{fmt(sc['common_from_s'], 1)} s; 1-min load before the runs "
                      f"{min(loads):.2f}-{max(loads):.2f})")
