@@ -18,18 +18,19 @@ from peers_common import (ROOT, ensure_sequence, eval_pair, fmt, frame_ms, load_
 
 
 def vid_eval_force(args, force_csv: pathlib.Path, traj: pathlib.Path, seq: pathlib.Path,
-                   out_json: pathlib.Path) -> dict:
-    """The project's gauge-free force scoring (``vid-eval force``, world frame, posyaw)."""
-    exe = pathlib.Path(sys.executable).parent / "vid-eval"
-    cmd = [str(exe), "force", str(force_csv), str(seq / "mav0" / "force0" / "data.csv"),
-           "--traj", str(traj), "--json", str(out_json)]
-    r = subprocess.run(cmd, capture_output=True, text=True)
+                   out_json: pathlib.Path, frame: str = "world") -> dict:
+    """The project's force scoring (``vid-eval force``; world: gauge-free, posyaw; body: the
+    truth rotated into the body with the ground-truth orientation), this checkout's vid_eval."""
+    cmd = [sys.executable, "-m", "vid_eval.cli", "force", str(force_csv), str(seq / "mav0" / "force0" / "data.csv"),
+           "--traj", str(traj), "--frame", frame, "--json", str(out_json)]
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "eval") + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    r = subprocess.run(cmd, capture_output=True, text=True, env=env)
     if r.returncode != 0:
         print(f"[compare] vid-eval force failed on {force_csv}: {r.stderr.strip()}", flush=True)
         return {"force_rmse_mps2": float("nan"), "lag_ms": None}
     j = json.loads(out_json.read_text())
     lag = j.get("response", {}).get("lag_ms", {}).get("combined")
-    return {"force_rmse_mps2": j["force_rmse_world_mps2"], "lag_ms": lag,
+    return {"force_rmse_mps2": j[f"force_rmse_{frame}_mps2"], "lag_ms": lag,
             "rmse_axis_mps2": j["force"].get("rmse_axis"), "pairs": j["force"].get("pairs")}
 
 

@@ -14,7 +14,9 @@
 //     frame wall ms from "decoded images in memory" to "state read back", plus the features used
 //     in that update) and OUT/summary.json (counts, median/p95/mean ms, peak RSS),
 //   * with --est-time-offset: estimates the camera-IMU time offset online and writes
-//     OUT/time_offset.csv (per frame: the estimate and its sigma).
+//     OUT/time_offset.csv (per frame: the estimate and its sigma),
+//   * with --init-groundtruth: initializes from DATASET/mav0/state_groundtruth_estimate0 as
+//     OpenVINS's own ros1_serial_msckf does with its path_gt (for flights without a still start).
 // Images are decoded before the timer starts, as vid_run's timing.total excludes decoding.
 #include <sys/resource.h>
 
@@ -41,6 +43,7 @@
 #include "state/State.h"
 #include "state/StateHelper.h"
 #include "types/IMU.h"
+#include "utils/dataset_reader.h"
 #include "utils/opencv_yaml_parse.h"
 #include "utils/print.h"
 #include "utils/sensor_data.h"
@@ -163,7 +166,7 @@ std::string merge_config(const fs::path &base, const std::vector<std::pair<std::
 void usage() {
   std::cout << "ov_driver --dataset DIR --out DIR [--cams 1|2] [--num-pts N] [--clones N]\n"
                "          [--max-msckf N] [--max-slam N] [--set key=value]... [--verbosity LEVEL]\n"
-               "          [--base-config OPENVINS_ESTIMATOR_CONFIG.yaml] [--est-time-offset]\n"
+               "          [--base-config OPENVINS_ESTIMATOR_CONFIG.yaml] [--est-time-offset] [--init-groundtruth]\n"
                "Runs OpenVINS (GPL-3) on a VID-MSCKF dataset folder; see bench/peers/README.md.\n";
 }
 
@@ -176,6 +179,7 @@ int main(int argc, char **argv) {
   std::map<std::string, std::string> overrides;
   std::string verbosity = "WARNING";
   bool est_time_offset = false;
+  bool init_groundtruth = false;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -192,6 +196,7 @@ int main(int argc, char **argv) {
     else if (a == "--verbosity") verbosity = next();
     else if (a == "--base-config") base_config = next();
     else if (a == "--est-time-offset") est_time_offset = true;
+    else if (a == "--init-groundtruth") init_groundtruth = true;
     else if (a == "--set") parse_set(next(), overrides);
     else if (a == "-h" || a == "--help") {
       usage();
@@ -294,6 +299,14 @@ int main(int argc, char **argv) {
   std::vector<std::vector<std::pair<int64_t, std::string>>> frames;
   for (int c = 0; c < cams; ++c) frames.push_back(read_frames(dataset / ("cam" + std::to_string(c)) / "data.csv"));
   if (imu_data.empty() || frames[0].empty()) die("no IMU or no camera frames");
+  // --init-groundtruth: OpenVINS's own reader of the EuRoC ground-truth CSV (t [ns], p, q wxyz,
+  // v, b_g, b_a), used as its ros1_serial_msckf uses it.
+  std::map<double, Eigen::Matrix<double, 17, 1>> gt_states;
+  if (init_groundtruth) {
+    const fs::path gt = dataset / "state_groundtruth_estimate0" / "data.csv";
+    if (!fs::exists(gt)) die(gt.string() + ": missing (needed by --init-groundtruth)");
+    ov_core::DatasetReader::load_gt_file(gt.string(), gt_states);
+  }
 
   std::ofstream traj(out / "trajectory_tum.txt");
   std::ofstream timing(out / "timing.csv");
@@ -351,6 +364,12 @@ int main(int argc, char **argv) {
       ++imu_i;
       if (past) break;
     }
+    // As ros1_serial_msckf: until the first update, (re)initialize from the ground-truth state
+    // nearest the frame (within 0.1 s, its get_gt_state), then feed the frame.
+    Eigen::Matrix<double, 17, 1> imustate;
+    if (!gt_states.empty() && !sys->initialized() &&
+        ov_core::DatasetReader::get_gt_state(msg.timestamp, imustate, gt_states))
+      sys->initialize_with_gt(imustate);
     sys->feed_measurement_camera(msg);
     // Initialized = its static initializer has set the state. (VioManager::initialized() stays
     // false while the start-up zero-velocity updates hold the state, before the first MSCKF
