@@ -51,8 +51,10 @@ void add_counters(PipelineCounters& a, const PipelineCounters& b) {
 
 nlohmann::json noise_fit_report(const PipelineCounters& c) {
   // A consistent filter's normalized innovations average 1 (per accelerometer axis; per degree
-  // of freedom of the features used, a little below 1 as the 95 % gate cuts the tail). Beyond a
-  // factor of 3 either way the noise settings do not describe the data: say which key to change.
+  // of freedom of the features used, a little below 1 as the 95 % gate cuts the tail). Above 3
+  // the noise setting is overconfident and the estimate suffers: one warning line naming the key.
+  // Below 1/3 it is only pessimistic (config/sim's 0.5 px on rendered images whose KLT tracks are
+  // good to 0.04 px, on purpose): summary.json says so, no warning.
   constexpr double kFactor = 3.0;
   nlohmann::json j;
   nlohmann::json warnings = nlohmann::json::array();
@@ -64,19 +66,20 @@ nlohmann::json noise_fit_report(const PipelineCounters& c) {
     j["accel_noise_inflated_fraction"] = static_cast<double>(c.accel_noise_inflated) / static_cast<double>(c.accel_nis_count);
     const char* axes = "xyz";
     for (int i = 0; i < 3; ++i) {
-      if (nis(i) > kFactor || nis(i) < 1.0 / kFactor)
+      if (nis(i) > kFactor)
         warnings.push_back(fmt::format("accelerometer innovations on the IMU {} axis average {:.2f} times their modeled "
-                                       "variance (1 fits): {} accel_noise_density (imu0/sensor.yaml) or thrust_noise_density",
-                                       axes[i], nis(i), nis(i) > 1.0 ? "raise" : "lower"));
+                                       "variance (1 fits): raise accel_noise_density (imu0/sensor.yaml; measure it in "
+                                       "flight: vid-allan --flight) or thrust_noise_density",
+                                       axes[i], nis(i)));
     }
   }
   if (c.visual_dof_sum > 0) {
     const double per_dof = c.visual_chi2_sum / static_cast<double>(c.visual_dof_sum);
     j["visual_chi2_per_dof"] = per_dof;
     j["visual_dof"] = c.visual_dof_sum;
-    if (per_dof > kFactor || per_dof < 1.0 / kFactor)
+    if (per_dof > kFactor)
       warnings.push_back(fmt::format("visual feature residuals average {:.2f} times their modeled variance per degree of "
-                                     "freedom (1 fits): {} pixel_noise_px", per_dof, per_dof > 1.0 ? "raise" : "lower"));
+                                     "freedom (1 fits): raise pixel_noise_px", per_dof));
   }
   j["warnings"] = warnings;
   return j;
