@@ -226,7 +226,7 @@ def main() -> int:
                     help="the project's build: bin/vid_run (ours rows) and bin/vid_sim (rendering)")
     ap.add_argument("--peers-bin", type=pathlib.Path, default=ROOT / "build-peers" / "bin")
     ap.add_argument("--work", type=pathlib.Path, default=ROOT / "build-peers" / "real")
-    ap.add_argument("--ours-config", type=pathlib.Path, default=ROOT / "config" / "sim")
+    ap.add_argument("--ours-config", type=pathlib.Path, default=ROOT / "bench" / "peers" / "ours_real")
     ap.add_argument("--rows", default=",".join(TABLE_ROWS), help="rows to (re)run now")
     ap.add_argument("--windows", default="full,60s")
     ap.add_argument("--variant", action="append", default=[], metavar="NAME=KIND:ARGS")

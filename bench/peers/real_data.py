@@ -29,10 +29,12 @@ from vid_eval.importer.features import write_tum  # noqa: E402
 from vid_eval.loaders import load_trajectory  # noqa: E402
 
 SCENE = ROOT / "config" / "sim" / "recorded_room.yaml"
-# Measured on this flight (docs/real_sensors.md: accelerometer sqrt(PSD) 0.015 / 0.022 / 0.026
-# m/s^2/sqrt(Hz), gyro 1.4e-3 / 1.8e-3 / 1.2e-3 rad/s/sqrt(Hz) over 10-45 Hz), rounded up; the
-# bias walks keep the importer's defaults (EuRoC's ADIS16448).
-IMU_NOISE = ["--accel-noise", "0.025", "--gyro-noise", "0.002"]
+# Measured on this flight in flight by `vid-allan --flight` (the same figures as
+# scripts/bench_realdata.py: gyro minus mocap rate 5.7e-3 rad/s/sqrt(Hz), accelerometer minus the
+# thrust + drag model 0.014 m/s^2/sqrt(Hz); the 10-45 Hz band of docs/real_sensors.md alone,
+# 0.002 / 0.025, left the slow part out and made every estimator's gyro overconfident); the bias
+# walks keep the importer's defaults (EuRoC's ADIS16448).
+IMU_NOISE = ["--accel-noise", "0.014", "--gyro-noise", "5.7e-3"]
 # Streams cut to a window (data.csv rows by time); the rest is copied or linked.
 CUT = ("imu0", "thrust0", "cam0", "cam1", "state_groundtruth_estimate0", "force0")
 
