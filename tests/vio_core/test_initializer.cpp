@@ -64,14 +64,17 @@ TEST(StaticInit, ConstantYawIsTurningNotStill) {
   EXPECT_NE(init.last_rejection().find("turning"), std::string::npos) << init.last_rejection();
 }
 
-TEST(StaticInit, SlowTurnBeyondTheBiasPriorIsRefused) {
-  // 0.05 rad/s is 5 init_sigma_gyro_bias (0.01): taking it as bias would be a 5-sigma error.
+TEST(StaticInit, TurnBeyondAPlausibleGyroBiasIsRefused) {
+  // The gyro alone cannot tell a slow turn from a bias: 0.3 rad/s (17 deg/s) is more than a MEMS
+  // gyro's bias (the bound is 0.2 rad/s) and is refused ...
   const EstimatorParams p = sim_params();
   StaticInitializer init(p);
-  EXPECT_FALSE(feed(init, p, 3.0, [](double) { return std::pair{Vector3d(0.05, 0, 0), Vector3d(0, 0, 9.81)}; }));
-  // ... while a bias inside the prior (0.02 rad/s, 2 sigma) is accepted.
+  EXPECT_FALSE(feed(init, p, 3.0, [](double) { return std::pair{Vector3d(0.3, 0, 0), Vector3d(0, 0, 9.81)}; }));
+  EXPECT_NE(init.last_rejection().find("turning"), std::string::npos) << init.last_rejection();
+  // ... while a real bias of 0.08 rad/s (euroc_like's IMU has 0.077, 8 init_sigma_gyro_bias) is
+  // accepted: refusing it left mono euroc_like_short uninitialized through its hover (ATE 32 m).
   StaticInitializer init2(p);
-  EXPECT_TRUE(feed(init2, p, 3.0, [](double) { return std::pair{Vector3d(0.02, 0, 0), Vector3d(0, 0, 9.81)}; }));
+  EXPECT_TRUE(feed(init2, p, 3.0, [](double) { return std::pair{Vector3d(0.08, 0, 0), Vector3d(0, 0, 9.81)}; }));
 }
 
 // A real 400 Hz IMU hovering on a multirotor: the chip's own noise is small (imu0/sensor.yaml

@@ -129,12 +129,16 @@ std::optional<InitResult> StaticInitializer::add(TimeNs t_ns, const Eigen::Vecto
     return std::nullopt;
   }
   // A constant turn has no spread at all (fast_yaw's 3 rad/s yaw passed the spread tests and
-  // became a 3 rad/s "gyro bias"): the window's mean rate is the bias estimate, so it must lie
-  // within the bias prior (3 init_sigma_gyro_bias per axis) plus the noise of a mean over n samples.
-  const double w_mean_max = 3.0 * (params_.init_sigma_gyro_bias +
-                                   params_.gyro_noise_density * std::sqrt(params_.imu_rate_hz / n));
+  // became a 3 rad/s "gyro bias"): the window's mean rate is the bias estimate, so it must be a
+  // gyro bias a MEMS IMU can have. The gyro alone cannot tell a slow turn from a bias, so the
+  // bound is the larger of a plausible bias (0.2 rad/s, ~11 deg/s; euroc_like's IMU has 0.077)
+  // and 3 init_sigma_gyro_bias plus the noise of a mean over n samples.
+  constexpr double kPlausibleGyroBias = 0.2;  // rad/s
+  const double w_mean_max = std::max(kPlausibleGyroBias,
+                                     3.0 * (params_.init_sigma_gyro_bias +
+                                            params_.gyro_noise_density * std::sqrt(params_.imu_rate_hz / n)));
   if (w_mean.cwiseAbs().maxCoeff() > w_mean_max) {
-    reason_ = "turning (mean gyro " + std::to_string(w_mean.norm()) + " rad/s, more than 3 init_sigma_gyro_bias)";
+    reason_ = "turning (mean gyro " + std::to_string(w_mean.norm()) + " rad/s, more than a gyro bias can be)";
     return std::nullopt;
   }
   if (params_.mode == PropagationMode::kDynamics && a_mean.norm() < params_.init_freefall_thrust_ratio * g &&
