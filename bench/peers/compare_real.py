@@ -41,8 +41,8 @@ import time
 import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from compare_vf import trim_rows, vid_eval_force  # noqa: E402
-from peers_common import ROOT, fmt, frame_ms, loadavg, publish_table, timed  # noqa: E402
+from compare_vf import vid_eval_force  # noqa: E402
+from peers_common import ROOT, fmt, frame_ms, loadavg, publish_table, timed, trim_rows  # noqa: E402
 from real_data import prepare, window  # noqa: E402
 from vid_eval.ate import ate_of_paired  # noqa: E402
 from vid_eval.geometry import lerp, slerp_wxyz  # noqa: E402

@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 from peers_common import (ROOT, ensure_sequence, eval_pair, fmt, frame_ms, load_trajectory, loadavg, mono_preset,
-                          publish_table, timed)
+                          publish_table, timed, trim_rows)
 
 
 def vid_eval_force(args, force_csv: pathlib.Path, traj: pathlib.Path, seq: pathlib.Path,
@@ -32,18 +32,6 @@ def vid_eval_force(args, force_csv: pathlib.Path, traj: pathlib.Path, seq: pathl
     lag = j.get("response", {}).get("lag_ms", {}).get("combined")
     return {"force_rmse_mps2": j[f"force_rmse_{frame}_mps2"], "lag_ms": lag,
             "rmse_axis_mps2": j["force"].get("rmse_axis"), "pairs": j["force"].get("pairs")}
-
-
-def trim_rows(src: pathlib.Path, dst: pathlib.Path, t0: int, t1: int) -> None:
-    """Copy a CSV keeping the header and the rows with t0 <= timestamp [ns] <= t1."""
-    with open(src) as f, open(dst, "w") as g:
-        for ln in f:
-            if ln.startswith("#") or not ln.strip():
-                g.write(ln)
-                continue
-            t = int(ln.split(",", 1)[0])
-            if t0 <= t <= t1:
-                g.write(ln)
 
 
 def plot_forces(args, key: str, seq: pathlib.Path, ours_dir: pathlib.Path, vf_dir: pathlib.Path,

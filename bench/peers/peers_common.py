@@ -90,6 +90,22 @@ def frame_ms(timing_csv: pathlib.Path, ours: bool) -> np.ndarray:
     return np.array([float(r[1]) for r in rows if r[2] == "1"])  # initialized frames
 
 
+def trim_rows(src: pathlib.Path, dst: pathlib.Path, t0: int, t1: int) -> int:
+    """Copy a CSV keeping the header and the rows with t0 <= timestamp [ns] <= t1; returns how
+    many rows were kept."""
+    n = 0
+    with open(src) as f, open(dst, "w") as g:
+        for ln in f:
+            if ln.startswith("#") or not ln.strip():
+                g.write(ln)
+                continue
+            t = int(ln.split(",", 1)[0])
+            if t0 <= t <= t1:
+                g.write(ln)
+                n += 1
+    return n
+
+
 def subset(tr: Trajectory, mask) -> Trajectory:
     return Trajectory(tr.t_ns[mask], tr.p[mask], tr.q[mask], tr.source)
 

@@ -22,7 +22,7 @@ import shutil
 import subprocess
 import sys
 
-from peers_common import ROOT
+from peers_common import ROOT, trim_rows
 
 sys.path.insert(0, str(ROOT / "eval"))
 from vid_eval.importer.features import write_tum  # noqa: E402
@@ -76,20 +76,6 @@ def prepare(data: pathlib.Path, seq: pathlib.Path, vid_sim: pathlib.Path, mass: 
     return seq
 
 
-def _cut_csv(src: pathlib.Path, dst: pathlib.Path, t0: int, t1: int) -> int:
-    n = 0
-    with open(src) as f, open(dst, "w") as g:
-        for ln in f:
-            if ln.startswith("#") or not ln.strip():
-                g.write(ln)
-                continue
-            t = int(ln.split(",", 1)[0])
-            if t0 <= t <= t1:
-                g.write(ln)
-                n += 1
-    return n
-
-
 def window(seq: pathlib.Path, out: pathlib.Path, start_s: float, length_s: float) -> pathlib.Path:
     """A folder holding [start, start + length] s after the first IMU sample of ``seq``: the
     data.csv of every stream cut by time, sensor files copied, image folders linked."""
@@ -112,7 +98,7 @@ def window(seq: pathlib.Path, out: pathlib.Path, start_s: float, length_s: float
             (dst / item.name).mkdir()
             for f in item.iterdir():
                 if f.name == "data.csv":
-                    if _cut_csv(f, dst / item.name / "data.csv", t0, t1) == 0:
+                    if trim_rows(f, dst / item.name / "data.csv", t0, t1) == 0:
                         raise SystemExit(f"{f}: no rows in the window {start_s}-{start_s + length_s} s")
                 elif f.is_dir():
                     (dst / item.name / f.name).symlink_to(f.resolve())

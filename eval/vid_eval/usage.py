@@ -4,6 +4,7 @@ error is one line "PROG: error: ... (see --help)" on stderr and exit 2, as in th
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 
 
@@ -19,3 +20,14 @@ class OneLineParser(argparse.ArgumentParser):
     def error(self, message: str):  # noqa: D401 - argparse's hook
         print(f"{self.prog}: error: {message} (see --help)", file=sys.stderr)
         sys.exit(2)
+
+
+def positive_float(text: str) -> float:
+    """argparse ``type=``: a finite number > 0, else a usage error naming the text."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise argparse.ArgumentTypeError(f"must be positive and finite, got {text}")
+    return value

@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import os
 import re
 from pathlib import Path
@@ -12,6 +11,7 @@ from typing import Any, Dict, Optional, Sequence
 from ..loaders import find_phases, load_phases
 from ..pairing import PairingOptions
 from ..phases import DEFAULT_WINDOW_S, PhaseSegmentation, segment_phases
+from ..usage import positive_float
 
 
 def add_pairing_args(p: argparse.ArgumentParser) -> None:
@@ -41,23 +41,13 @@ def add_output_args(p: argparse.ArgumentParser) -> None:
     g.add_argument("--sequence", help="sequence name stored in the JSON (for `vid-eval report`)")
 
 
-def _positive_seconds(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a number of seconds") from None
-    if not (value > 0 and math.isfinite(value)):
-        raise argparse.ArgumentTypeError(f"must be positive and finite, got {text}")
-    return value
-
-
 def add_phase_args(p: argparse.ArgumentParser) -> None:
     """--phases, --phase-window (issue #29: errors per flight phase)."""
     g = p.add_argument_group("flight phases (reported when phase0 is found)")
     g.add_argument("--phases", metavar="FILE", default=None,
                    help="phase0 CSV '#timestamp [ns],phase' (0 on the ground, 1 airborne); "
                         "default: mav0/phase0/data.csv next to GT when it exists")
-    g.add_argument("--phase-window", type=_positive_seconds, default=DEFAULT_WINDOW_S, metavar="S",
+    g.add_argument("--phase-window", type=positive_float, default=DEFAULT_WINDOW_S, metavar="S",
                    help="length of the transition window centred on each lift-off and "
                         f"touchdown [s] (default {DEFAULT_WINDOW_S:g})")
 

@@ -9,7 +9,7 @@ from pathlib import Path
 from ..importer.force_truth import FORCE_CUTOFF_HZ
 from ..importer.sync import DEFAULT_MAX_LAG_S
 from ..importer.truth import mocap_truth, report_lines
-from ..importer.cli import _positive
+from ..usage import positive_float
 
 
 def add_parser(sub) -> None:
@@ -21,9 +21,9 @@ def add_parser(sub) -> None:
                                    "offset against the accelerometer, and force0/data.csv = m (a_W - g_W) - R_WI "
                                    "[0, 0, T] from the smoothed, twice differentiated mocap position.")
     p.add_argument("folder", help="dataset folder (SEQ or SEQ/mav0)")
-    p.add_argument("--cutoff", type=_positive, default=FORCE_CUTOFF_HZ, metavar="HZ",
+    p.add_argument("--cutoff", type=positive_float, default=FORCE_CUTOFF_HZ, metavar="HZ",
                    help=f"zero-phase Butterworth cutoff of the position and thrust (default {FORCE_CUTOFF_HZ:g})")
-    p.add_argument("--max-lag", type=_positive, default=DEFAULT_MAX_LAG_S, metavar="S",
+    p.add_argument("--max-lag", type=positive_float, default=DEFAULT_MAX_LAG_S, metavar="S",
                    help=f"largest clock offset searched (default {DEFAULT_MAX_LAG_S:g} s)")
     p.add_argument("--apply-sync", action="store_true",
                    help="rewrite the ground truth with the mocap offset removed and the orientation rotated "

@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import List, Optional
 
 from ..errors import VidEvalError
-from ..usage import OneLineParser
+from ..usage import OneLineParser, positive_float
 from . import convert
 from .errors import MapError
 from .features import DEFAULT_SCENE, find_vid_sim, synthesize
@@ -23,16 +23,6 @@ from .truth import applied_sync_line, gyro_sync_lines, synced_groundtruth
 from .writer import DEFAULT_IMU_NOISE, DEFAULT_ROTOR_NOISE, write_dataset
 
 EXIT_USAGE, EXIT_DATA = 2, 1
-
-
-def _positive(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
-    if not (value > 0 and math.isfinite(value)):
-        raise argparse.ArgumentTypeError(f"must be positive, got {text}")
-    return value
 
 
 def _coefficients(text: str) -> List[float]:
@@ -55,8 +45,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("out", help="output dataset folder (OUT/mav0/...)")
     p.add_argument("--map", required=True, metavar="NAME|FILE",
                    help=f"source map: a preset ({', '.join(preset_names())}) or a YAML file")
-    p.add_argument("--mass", type=_positive, required=True, metavar="KG", help="vehicle mass [kg] (vehicle.yaml)")
-    p.add_argument("--gravity", type=_positive, default=9.81, metavar="G", help="gravity magnitude (default 9.81)")
+    p.add_argument("--mass", type=positive_float, required=True, metavar="KG", help="vehicle mass [kg] (vehicle.yaml)")
+    p.add_argument("--gravity", type=positive_float, default=9.81, metavar="G", help="gravity magnitude (default 9.81)")
     p.add_argument("--imu-frame", choices=("flu", "frd"), default="flu",
                    help="axes of the IMU (and of the thrust and the mocap body): flu (z up, default) or "
                         "frd (z down: rotated by diag(1,-1,-1))")
@@ -69,12 +59,12 @@ def build_parser() -> argparse.ArgumentParser:
     g = p.add_argument_group("noise written to imu0/sensor.yaml and rotor0/sensor.yaml (defaults stated in the output)")
     for flag, key in (("--gyro-noise", "gyroscope_noise_density"), ("--gyro-walk", "gyroscope_random_walk"),
                       ("--accel-noise", "accelerometer_noise_density"), ("--accel-walk", "accelerometer_random_walk")):
-        g.add_argument(flag, type=_positive, dest=key, metavar="X", help=f"{key} (default {DEFAULT_IMU_NOISE[key]:g})")
-    g.add_argument("--rotor-noise", type=_positive, default=None, metavar="X",
+        g.add_argument(flag, type=positive_float, dest=key, metavar="X", help=f"{key} (default {DEFAULT_IMU_NOISE[key]:g})")
+    g.add_argument("--rotor-noise", type=positive_float, default=None, metavar="X",
                    help=f"rotor speed noise density (default {DEFAULT_ROTOR_NOISE:g})")
     g.add_argument("--rotor-coefficients", type=_coefficients, default=None, metavar="K1,K2,...",
                    help="rotor thrust coefficients [N/unit^2] for vehicle.yaml (vid-fit-thrust finds them)")
-    p.add_argument("--velocity-cutoff", type=_positive, default=convert.VELOCITY_CUTOFF_HZ, metavar="HZ",
+    p.add_argument("--velocity-cutoff", type=positive_float, default=convert.VELOCITY_CUTOFF_HZ, metavar="HZ",
                    help="low-pass cutoff of the position before differentiating, when the mocap has no "
                         f"velocity (default {convert.VELOCITY_CUTOFF_HZ:g})")
     p.add_argument("--sync", action="store_true",
