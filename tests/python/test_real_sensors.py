@@ -81,17 +81,21 @@ def run(tmp_path_factory, preset: str, calibrated: bool, mode: str) -> dict:
     return _RUNS[key]
 
 
-# Calibrated, seed 1, measured with the vibration-aware accelerometer noise (0.25 s window):
-# body force RMSE [m/s^2], force jumps, ATE dynamics / imu [m]. Ratchets at 1.2x (one seed: the
-# margin docs/testing.md gives a figure without a measured spread).
-#   fast_drag_short           0.095   0   0.0247 / 0.0230  (dynamics 7 % worse: target not met)
-#   vid17_real_sensors_short  0.104   0   0.0065 / 0.0064
+# Calibrated, seed 1, measured with the vibration-aware accelerometer noise (0.25 s window,
+# innovation power above 10 Hz, 3-sigma clipped): body force RMSE [m/s^2], force jumps, ATE
+# dynamics / imu [m]. Ratchets at 1.2x (one seed: the margin docs/testing.md gives a figure
+# without a measured spread).
+#   fast_drag_short           0.094   0   0.0245 / 0.0229  (dynamics 7 % worse: target not met)
+#   vid17_real_sensors_short  0.103   0   0.0071 / 0.0070
 #   rotor_dip_short           0.115   0   0.0053 / 0.0061
-#   vibration_burst_short     0.286  45   0.0088 / 0.0098  (bursts: force and jumps not met)
-FORCE = {"fast_drag_short": 0.095, "vid17_real_sensors_short": 0.104, "rotor_dip_short": 0.115,
-         "vibration_burst_short": 0.286}
-ATE_RATIO = {"fast_drag_short": 1.075, "vid17_real_sensors_short": 1.004, "rotor_dip_short": 0.865,
-             "vibration_burst_short": 0.90}
+#   vibration_burst_short     0.301  57   0.0079 / 0.0097  (bursts: force and jumps not met)
+# vibration_burst_short was 0.286 / 45 jumps with the first estimator (the plain window
+# variance), which read every slow innovation as noise: it also hid touchdowns (the vehicle sank
+# 0.4 m through the floor on takeoff_landing_short, ATE 0.076 m). With no adaptation: 0.341 / 88.
+FORCE = {"fast_drag_short": 0.094, "vid17_real_sensors_short": 0.103, "rotor_dip_short": 0.115,
+         "vibration_burst_short": 0.301}
+ATE_RATIO = {"fast_drag_short": 1.072, "vid17_real_sensors_short": 1.015, "rotor_dip_short": 0.865,
+             "vibration_burst_short": 0.814}
 SMOOTH = ["fast_drag_short", "vid17_real_sensors_short", "rotor_dip_short"]
 
 
@@ -121,7 +125,7 @@ def test_calibrated_force_target_and_no_false_jumps(tmp_path_factory, preset):
 def test_vibration_burst_force_target(tmp_path_factory):
     s = run(tmp_path_factory, "vibration_burst_short", True, "dynamics")
     jumps = s["counts"]["force_jumps"]
-    ratchet("vibration_burst_short force jumps", jumps, 54, measured=45)
+    ratchet("vibration_burst_short force jumps", jumps, 68, measured=57)
     target("vibration_burst_short body force RMSE", s["force_rmse_body_mps2"], 0.15, unit=" m/s^2")
     target("vibration_burst_short force jumps", jumps, jumps_per_minute_limit(s))
 

@@ -56,7 +56,7 @@ Pipeline::Pipeline(PipelineConfig config)
       phase_(config_.params),
       health_(config_.params),
       accel_noise_(config_.params.accel_noise_density * config_.params.accel_noise_density * config_.params.imu_rate_hz,
-                   config_.params.accel_noise_window_s * config_.params.imu_rate_hz) {
+                   config_.params.accel_noise_window_s, config_.params.imu_rate_hz) {
   if (config_.params.mode == PropagationMode::kDynamics && !(config_.vehicle.mass_kg > 0.0)) {
     throw std::invalid_argument("dynamics mode needs vehicle mass_kg > 0");
   }

@@ -87,8 +87,9 @@ struct EstimatorParams {
   bool accel_update = true;              ///< update with every accelerometer sample
   /// Window [s] of the vibration-aware accelerometer noise (vio_core/accel_noise.h; 100 samples at
   /// 400 Hz: a consistent filter never reaches the 2x threshold, a 1-3 s burst does in ~0.1 s): where the
-  /// innovations' spread over it exceeds twice what accel_noise_density predicts (rotor
-  /// vibration, bursts), the excess is added to the measurement noise. 0 = off.
+  /// innovations' power above 10 Hz over it (each sample clipped at 3 sigma) exceeds twice what
+  /// accel_noise_density predicts (rotor vibration, bursts), the excess is added to the
+  /// measurement noise; slower innovations are a force being followed, not noise. 0 = off.
   double accel_noise_window_s = 0.25;
   bool accel_chi2_gating = true;         ///< gate each accelerometer sample at the 99% chi2(3) quantile
   double accel_chi2_multiplier = 1.0;    ///< multiplies the 99% chi2(3) threshold
