@@ -16,7 +16,10 @@ Steps (each one a program of the project, printed as it runs):
 4. ``vid_run --init groundtruth`` with the estimator's defaults (pixel_noise_px 0.5: the synthetic
    features' noise) in ``--mode dynamics`` and ``--mode imu`` over each window;
 5. scores: posyaw ATE and body-frame force RMSE (summary.json, the project's metrics), force
-   jumps, the force NEES (diagonal sigma of force.csv) inside the two-sided 95 % chi2(3) band.
+   jumps, the force NEES (diagonal sigma of force.csv) inside the two-sided 95 % chi2(3) band;
+6. with ``--starts 0 20 40 60 80``: in-flight starts (issue #49), ``vid_run --start S`` to the end
+   in dynamics mode initialized from the data (``init_mode: auto``, no ground truth) and from the
+   ground truth at the same time: time from S to the first estimate, ATE of both, their ratio.
 
 The data stays outside the repository (../shared/realdata); results go to OUT/results.json and
 OUT/table.md.
@@ -93,6 +96,8 @@ def main() -> int:
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="estimator.yaml override")
     ap.add_argument("--out", required=True)
     ap.add_argument("--reuse", action="store_true", help="keep an imported folder from an earlier run")
+    ap.add_argument("--starts", nargs="*", type=float, default=[], metavar="S",
+                    help="also in-flight starts at these seconds: auto vs ground-truth initialization")
     args = ap.parse_args()
     out, build = pathlib.Path(args.out), pathlib.Path(args.build)
     folder = out / "blackbird_clover"
@@ -135,9 +140,60 @@ def main() -> int:
         nees = f"{r['nees_mean']:.1f} ({100 * r['nees_in_band']:.0f} %)" if "nees_mean" in r else "–"
         lines.append(f"| {r['window']} | {r['mode']} | {r['ate_m']:.4f} | {f} | {r['force_jumps']} | {nees} |")
     table = "\n".join(lines)
+    if args.starts:
+        table += "\n\n" + init_starts(args.starts, folder, cfg, build, out)
     (out / "table.md").write_text(table + "\n")
     print(table)
     return 0
+
+
+def first_stamp_s(csv: pathlib.Path) -> float:
+    with open(csv) as f:
+        for line in f:
+            if line.strip() and not line.startswith("#"):
+                return int(line.split(",", 1)[0]) * 1e-9
+    return float("inf")
+
+
+def first_estimate_s(run_dir: pathlib.Path) -> float:
+    for line in (run_dir / "trajectory_tum.txt").read_text().splitlines():
+        if line and not line.startswith("#"):
+            return float(line.split()[0])
+    return float("nan")
+
+
+def init_starts(starts: list[float], folder: pathlib.Path, cfg: pathlib.Path, build: pathlib.Path,
+                out: pathlib.Path) -> str:
+    """Issue #49 on the real flight: from each start, dynamics mode initialized from the data
+    (init_mode auto: this flight never hovers, so the in-flight initializer) and from the ground
+    truth; the time to the first estimate and the ATE over the rest of the flight."""
+    t0 = min(first_stamp_s(csv) for csv in (folder / "mav0").glob("*/data.csv"))  # vid_run's --start origin
+    rows = []
+    for start in starts:
+        row = {"start_s": start}
+        for init in ("auto", "groundtruth"):
+            rd = out / "starts" / f"{start:g}_{init}"
+            cmd = [str(build / "bin/vid_run"), "--dataset", str(folder), "--config", str(cfg), "--mode", "dynamics",
+                   "--out", str(rd), "--quiet", "--start", str(start)]
+            cmd += ["--init", "groundtruth"] if init == "groundtruth" else []
+            print("+", " ".join(cmd), flush=True)
+            proc = subprocess.run(cmd)
+            s = json.loads((rd / "summary.json").read_text()) if (rd / "summary.json").exists() else {}
+            row[init] = {"exit": proc.returncode, "status": s.get("status"), "ate_m": s.get("ate_posyaw_m"),
+                         "init_after_s": first_estimate_s(rd) - t0 - start if proc.returncode == 0 else None,
+                         "how": [e["how"] for e in s.get("initializations", {}).get("events", [])]}
+        rows.append(row)
+    (out / "starts.json").write_text(json.dumps(rows, indent=1))
+    lines = ["| start [s] | initialized after [s] (how) | ATE auto [m] | ATE from ground truth [m] | ratio |",
+             "|---|---|---|---|---|"]
+    for r in rows:
+        a, g = r["auto"], r["groundtruth"]
+        if a["ate_m"] is None or g["ate_m"] is None:
+            lines.append(f"| {r['start_s']:g} | exit {a['exit']} ({a['status']}) | – | – | – |")
+            continue
+        lines.append(f"| {r['start_s']:g} | {a['init_after_s']:.2f} ({', '.join(a['how'])}) | {a['ate_m']:.4f} | "
+                     f"{g['ate_m']:.4f} | {a['ate_m'] / g['ate_m']:.2f} |")
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":

@@ -9,7 +9,7 @@ vid-allan --flight / vid-fit-thrust's residual measures) - here the simulator's 
 the test holds the estimator, not the calibration tools (tested in test_calib_thrust.py). And as
 it is flown uncalibrated (the folder's own files), where the force error is the calibration's.
 
-Feature level, seed 1 (the spread over seeds 1-3 is in the comments), config/sim.
+Feature level, seeds 1-3 (25 s each), config/sim.
 """
 import json
 import math
@@ -58,45 +58,62 @@ def calibrate(seq: pathlib.Path, scenario: pathlib.Path, out: pathlib.Path) -> p
 _RUNS = {}
 
 
-def run(tmp_path_factory, preset: str, calibrated: bool, mode: str) -> dict:
-    key = (preset, calibrated, mode)
+SEEDS = (1, 2, 3)
+
+
+def run(tmp_path_factory, preset: str, calibrated: bool, mode: str, seed: int = 1) -> dict:
+    key = (preset, calibrated, mode, seed)
     if key not in _RUNS:
         scenario = REPO / "config" / "sim" / f"{preset}.yaml"
-        seq = simulate_cached(f"{preset}.yaml", 25.0, 1, True)
+        seq = simulate_cached(f"{preset}.yaml", 25.0, seed, True)
         base = tmp_path_factory.getbasetemp() / "real_sensors"
         cfg = REPO / "config" / "sim"
         if calibrated:
-            seq = calibrate(seq, scenario, base / f"{preset}_cal")
+            seq = calibrate(seq, scenario, base / f"{preset}_s{seed}_cal")
             latency = yaml.safe_load(scenario.read_text()).get("sensor_faults", {}).get(
                 "rotor_telemetry", {}).get("latency_s", 0.0)
             cfg = base / f"cfg_{preset}"
-            shutil.rmtree(cfg, ignore_errors=True)
-            shutil.copytree(REPO / "config" / "sim", cfg)
-            with open(cfg / "estimator.yaml", "a") as fh:
-                fh.write(f"\nthrust_delay_s: {latency}\n")
-        out = base / f"run_{preset}_{'cal' if calibrated else 'raw'}_{mode}"
+            if not cfg.exists():
+                shutil.copytree(REPO / "config" / "sim", cfg)
+                with open(cfg / "estimator.yaml", "a") as fh:
+                    fh.write(f"\nthrust_delay_s: {latency}\n")
+        out = base / f"run_{preset}_s{seed}_{'cal' if calibrated else 'raw'}_{mode}"
         r = vid_run(seq, out, "--config", str(cfg), "--mode", mode)
         assert r.returncode == 0, r.stderr
         _RUNS[key] = summary(out)
     return _RUNS[key]
 
 
-# Calibrated, seed 1, measured with the vibration-aware accelerometer noise (0.25 s window,
-# innovation power above 10 Hz, 3-sigma clipped): body force RMSE [m/s^2], force jumps, ATE
-# dynamics / imu [m]. Ratchets at 1.2x (one seed: the margin docs/testing.md gives a figure
-# without a measured spread).
-#   fast_drag_short           0.094   0   0.0245 / 0.0229  (dynamics 7 % worse: target not met)
-#   vid17_real_sensors_short  0.103   0   0.0071 / 0.0070
-#   rotor_dip_short           0.115   0   0.0053 / 0.0061
-#   vibration_burst_short     0.301  57   0.0079 / 0.0097  (bursts: force and jumps not met)
-# vibration_burst_short was 0.286 / 45 jumps with the first estimator (the plain window
+def over_seeds(tmp_path_factory, preset: str) -> list:
+    """Calibrated runs of seeds 1-3: [(dynamics summary, imu summary)]."""
+    return [(run(tmp_path_factory, preset, True, "dynamics", s), run(tmp_path_factory, preset, True, "imu", s))
+            for s in SEEDS]
+
+
+# Calibrated, seeds 1-3, measured with the vibration-aware accelerometer noise (0.25 s window,
+# innovation power above 10 Hz, 3-sigma clipped). Ratchets at 1.2x the worst seed (three seeds
+# are too few for a spread; docs/testing.md).
+#                             body force [m/s^2]     jumps      ATE dynamics / imu
+#   fast_drag_short           0.094 0.106 0.101      0  0  0    1.072 0.983 1.009 (mean 1.021)
+#   vid17_real_sensors_short  0.103 0.104 0.115      0  0  0    1.015 0.986 1.085 (mean 1.029)
+#   rotor_dip_short           0.115 0.165 0.129      0  0  0    0.865 0.944 0.964 (mean 0.924)
+#   vibration_burst_short     0.301 0.255 0.279     57 58 52    0.814 0.936 1.010 (mean 0.920)
+# vibration_burst_short seed 1 was 0.286 / 45 jumps with the first estimator (the plain window
 # variance), which read every slow innovation as noise: it also hid touchdowns (the vehicle sank
 # 0.4 m through the floor on takeoff_landing_short, ATE 0.076 m). With no adaptation: 0.341 / 88.
-FORCE = {"fast_drag_short": 0.094, "vid17_real_sensors_short": 0.103, "rotor_dip_short": 0.115,
-         "vibration_burst_short": 0.301}
-ATE_RATIO = {"fast_drag_short": 1.072, "vid17_real_sensors_short": 1.015, "rotor_dip_short": 0.865,
-             "vibration_burst_short": 0.814}
+# A fast-attack estimate (the same power over 8 samples) took the bursts to 0.165 / 12 jumps but
+# impacts_short's force from 0.90 to 1.20 and takeoff_landing_short's from 0.66 to 0.93 m/s^2:
+# within 20 ms a burst's onset and an impact look alike (README "Real sensors").
+WORST_FORCE = {"fast_drag_short": 0.106, "vid17_real_sensors_short": 0.115, "rotor_dip_short": 0.165,
+               "vibration_burst_short": 0.301}
+MOST_JUMPS = {"fast_drag_short": 0, "vid17_real_sensors_short": 0, "rotor_dip_short": 0, "vibration_burst_short": 58}
+ATE_RATIO = {"fast_drag_short": 1.021, "vid17_real_sensors_short": 1.029, "rotor_dip_short": 0.924,
+             "vibration_burst_short": 0.920}  # mean over the seeds
 SMOOTH = ["fast_drag_short", "vid17_real_sensors_short", "rotor_dip_short"]
+# Issue 48: body force <= 0.15 m/s^2 on every seed; dynamics ATE <= imu ATE on the mean and on
+# 2 of the 3 seeds. Where not met, a strict xfail.
+FORCE_MET = ["fast_drag_short", "vid17_real_sensors_short"]
+ATE_MET = ["rotor_dip_short", "vibration_burst_short"]
 
 
 def jumps_per_minute_limit(s: dict) -> float:
@@ -104,52 +121,64 @@ def jumps_per_minute_limit(s: dict) -> float:
     return max(1.0, s.get("data_duration_s", 25.0) / 60.0)
 
 
+def report(preset: str, runs: list) -> None:
+    for seed, (d, i) in zip(SEEDS, runs):
+        print(f"{preset} seed {seed}: body force {d['force_rmse_body_mps2']:.3f} m/s^2, "
+              f"jumps {d['counts']['force_jumps']}, ATE dynamics {d['ate_posyaw_m']:.4f} / imu {i['ate_posyaw_m']:.4f} m")
+
+
 @pytest.mark.parametrize("preset", PRESETS)
 def test_calibrated_force_ratchet(tmp_path_factory, preset):
-    s = run(tmp_path_factory, preset, True, "dynamics")
-    assert s["status"] == "ok"
-    force = s["force_rmse_body_mps2"]
-    print(f"{preset}: body force {force:.3f} m/s^2, ATE {s['ate_posyaw_m']:.4f} m, jumps {s['counts']['force_jumps']}")
-    ratchet(f"{preset} body force RMSE", force, 1.2 * FORCE[preset], measured=FORCE[preset], unit=" m/s^2")
+    runs = over_seeds(tmp_path_factory, preset)
+    report(preset, runs)
+    assert all(d["status"] == "ok" for d, _ in runs)
+    worst = max(d["force_rmse_body_mps2"] for d, _ in runs)
+    ratchet(f"{preset} body force RMSE, worst seed", worst, 1.2 * WORST_FORCE[preset],
+            measured=WORST_FORCE[preset], unit=" m/s^2")
+    most = max(d["counts"]["force_jumps"] for d, _ in runs)
+    ratchet(f"{preset} force jumps, most of a seed", most, max(1, round(1.2 * MOST_JUMPS[preset])),
+            measured=MOST_JUMPS[preset])
 
 
 @pytest.mark.parametrize("preset", SMOOTH)
-def test_calibrated_force_target_and_no_false_jumps(tmp_path_factory, preset):
-    s = run(tmp_path_factory, preset, True, "dynamics")
-    assert s["force_rmse_body_mps2"] <= 0.15, s["force_rmse_body_mps2"]
-    assert s["counts"]["force_jumps"] <= jumps_per_minute_limit(s), s["accel"]["force_jump_events"][:5]
+def test_calibrated_no_false_jumps_where_the_force_is_smooth(tmp_path_factory, preset):
+    for d, _ in over_seeds(tmp_path_factory, preset):
+        assert d["counts"]["force_jumps"] <= jumps_per_minute_limit(d), d["accel"]["force_jump_events"][:5]
+
+
+@pytest.mark.parametrize("preset", [p if p in FORCE_MET else pytest.param(p, marks=target_not_met(
+    f"{p}: body force above 0.15 m/s^2 on a seed")) for p in SMOOTH])
+def test_calibrated_force_target(tmp_path_factory, preset):
+    for seed, (d, _) in zip(SEEDS, over_seeds(tmp_path_factory, preset)):
+        target(f"{preset} seed {seed} body force RMSE", d["force_rmse_body_mps2"], 0.15, unit=" m/s^2")
 
 
 @target_not_met("vibration bursts (0.4-1 m/s^2 rms at 10-40 Hz for 1-3 s) still read as force steps "
-                "before the vibration-aware noise has caught up (README 'Real sensors')")
+                "in their first milliseconds (README 'Real sensors')")
 def test_vibration_burst_force_target(tmp_path_factory):
-    s = run(tmp_path_factory, "vibration_burst_short", True, "dynamics")
-    jumps = s["counts"]["force_jumps"]
-    ratchet("vibration_burst_short force jumps", jumps, 68, measured=57)
-    target("vibration_burst_short body force RMSE", s["force_rmse_body_mps2"], 0.15, unit=" m/s^2")
-    target("vibration_burst_short force jumps", jumps, jumps_per_minute_limit(s))
+    for d, _ in over_seeds(tmp_path_factory, "vibration_burst_short"):
+        target("vibration_burst_short body force RMSE", d["force_rmse_body_mps2"], 0.15, unit=" m/s^2")
+        target("vibration_burst_short force jumps", d["counts"]["force_jumps"], jumps_per_minute_limit(d))
+
+
+def ate_ratios(runs: list) -> list:
+    return [d["ate_posyaw_m"] / i["ate_posyaw_m"] for d, i in runs]
 
 
 @pytest.mark.parametrize("preset", PRESETS)
 def test_calibrated_dynamics_ate_ratchet(tmp_path_factory, preset):
-    dyn = run(tmp_path_factory, preset, True, "dynamics")["ate_posyaw_m"]
-    imu = run(tmp_path_factory, preset, True, "imu")["ate_posyaw_m"]
-    print(f"{preset}: ATE dynamics {dyn:.4f} m, imu {imu:.4f} m")
-    ratchet(f"{preset} ATE dynamics / imu", dyn / imu, 1.2 * ATE_RATIO[preset], measured=ATE_RATIO[preset])
+    ratios = ate_ratios(over_seeds(tmp_path_factory, preset))
+    print(f"{preset}: ATE dynamics / imu per seed {[round(r, 3) for r in ratios]}")
+    mean = sum(ratios) / len(ratios)
+    ratchet(f"{preset} ATE dynamics / imu, mean of 3 seeds", mean, 1.2 * ATE_RATIO[preset], measured=ATE_RATIO[preset])
 
 
-@pytest.mark.parametrize("preset", [p for p in PRESETS if ATE_RATIO[p] <= 1.0])
+@pytest.mark.parametrize("preset", [p if p in ATE_MET else pytest.param(p, marks=target_not_met(
+    f"{p}: dynamics ATE above imu mode (mean or 2 of 3 seeds)")) for p in PRESETS])
 def test_calibrated_dynamics_is_no_worse_than_imu(tmp_path_factory, preset):
-    dyn = run(tmp_path_factory, preset, True, "dynamics")["ate_posyaw_m"]
-    imu = run(tmp_path_factory, preset, True, "imu")["ate_posyaw_m"]
-    assert dyn <= imu * 1.01, (dyn, imu)  # 1 %: the two modes' ATE agree to ~0.5 % on the ideal presets
-
-
-@target_not_met("fast_drag_short: dynamics ATE 7 % above imu mode (seed 1)")
-def test_fast_drag_dynamics_is_no_worse_than_imu(tmp_path_factory):
-    dyn = run(tmp_path_factory, "fast_drag_short", True, "dynamics")["ate_posyaw_m"]
-    imu = run(tmp_path_factory, "fast_drag_short", True, "imu")["ate_posyaw_m"]
-    target("fast_drag_short ATE dynamics / imu", dyn / imu, 1.0)
+    ratios = ate_ratios(over_seeds(tmp_path_factory, preset))
+    target(f"{preset} ATE dynamics / imu, mean of 3 seeds", sum(ratios) / len(ratios), 1.0)
+    target(f"{preset} seeds with dynamics ATE <= imu", sum(r <= 1.0 for r in ratios), 2, higher_is_better=True)
 
 
 @pytest.mark.parametrize("preset", ["fast_drag_short", "vid17_real_sensors_short"])
