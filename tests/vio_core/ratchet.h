@@ -45,4 +45,11 @@ inline void expect_target_not_met(const char* what, double value, double target)
   EXPECT_GT(value, target) << what << " meets its target now: make it a plain EXPECT_LE and drop its ratchet";
 }
 
+/// @brief expect_target_not_met for a figure where higher is better (a fraction inside a band):
+/// EXPECT value < target.
+inline void expect_target_not_met_at_least(const char* what, double value, double target) {
+  std::printf("[target] %s: %.4g (target >= %.4g, not met yet)\n", what, value, target);
+  EXPECT_LT(value, target) << what << " meets its target now: make it a plain EXPECT_GE and drop its ratchet";
+}
+
 }  // namespace vid::test
