@@ -6,26 +6,14 @@
 #include "geometry/so3.h"
 #include "vio_core/ekf_update.h"
 #include "vio_core/propagation.h"
+#include "error_state.h"
 
 namespace {
 using namespace vid;
+using vid::test::perturb;
 using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
-
-// dx over the IMU block of the given layout.
-ImuState perturb(const ImuState& x, const VectorXd& dx, const ImuLayout& l) {
-  ImuState y = x;
-  y.T_WI.q = so3::boxplus(x.T_WI.q, dx.segment<3>(imu_idx::kTheta));
-  y.T_WI.p += dx.segment<3>(imu_idx::kP);
-  y.v_WI += dx.segment<3>(imu_idx::kV);
-  y.b_g += dx.segment<3>(imu_idx::kBg);
-  y.b_a += dx.segment<3>(imu_idx::kBa);
-  if (l.force) y.F_ext += dx.segment<3>(imu_idx::kF);
-  if (l.force_rate) y.F_dot += dx.segment<3>(imu_idx::kFdot);
-  if (l.thrust_scale) y.thrust_scale += dx(l.thrust_scale_index());
-  return y;
-}
 
 VectorXd difference(const ImuState& a, const ImuState& b, const ImuLayout& l) {
   VectorXd d(l.dim());

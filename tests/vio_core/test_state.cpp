@@ -8,6 +8,7 @@
 #include "vio_core/chi2.h"
 #include "vio_core/ekf_update.h"
 #include "vio_core/state.h"
+#include "error_state.h"
 
 namespace {
 using namespace vid;
@@ -232,6 +233,17 @@ void check_accel_update(ForceFrame frame, bool rate, bool thrust_scale = false,
   const DragJacobian Jd = drag_jacobian(s.imu(), drag);
   H.block<3, 3>(0, imu_idx::kTheta) += Jd.H_theta;
   H.block<3, 3>(0, imu_idx::kV) = Jd.H_v;
+  // The columns written by hand above (b_a, thrust scale, drag) against central differences of
+  // the measurement model over the whole IMU block (the clones' columns stay zero).
+  ASSERT_TRUE(s.imu_fej().T_WI.q.isApprox(s.imu().T_WI.q));  // else H is not d h / d x at x
+  MatrixXd H_num = MatrixXd::Zero(3, s.dim());
+  for (int i = 0; i < s.layout().dim(); ++i) {
+    VectorXd e = VectorXd::Zero(s.layout().dim());
+    e(i) = 1e-6;
+    H_num.col(i) = (predict_accel(test::perturb(s.imu(), e, s.layout()), Tm, frame, drag) -
+                    predict_accel(test::perturb(s.imu(), -e, s.layout()), Tm, frame, drag)) / 2e-6;
+  }
+  EXPECT_LT((H - H_num).norm(), 1e-7 * H.norm()) << "analytic\n" << H << "\nnumeric\n" << H_num;
   const VectorXd r = a_m - predict_accel(s.imu(), Tm, frame, drag);
   MatrixXd P_ref = s.P();
   VectorXd dx_ref;
