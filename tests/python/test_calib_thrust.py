@@ -23,6 +23,7 @@ from test_vid_run_helpers import REPO, program
 from vid_eval.calib.thrust_fit import FitInput, fit_thrust
 from vid_eval.calib.torque_rows import RotorGeometry, symmetric_torque_matrix, torque_rows
 from vid_eval.loaders import load_vehicle
+from plot_checks import assert_plot
 
 PRESET = REPO / "config" / "sim" / "thrust_fit.yaml"
 
@@ -63,7 +64,7 @@ def test_collective_within_one_percent(log, tmp_path, bias):
     floor = noise["accelerometer_noise_density"] * np.sqrt(noise["rate_hz"])
     rms = float(r.stdout.split("residual RMS ")[1].split()[0])
     assert rms == pytest.approx(floor, rel=0.03)  # nothing but the accelerometer's white noise left
-    assert (tmp_path / "res.png").stat().st_size > 10_000
+    assert_plot(tmp_path / "res.png", ("tab:blue", "black"))  # the fit, the residuals' 1 s mean
 
 
 def test_per_rotor_on_vertical_steps_warns(log):

@@ -14,6 +14,7 @@ from eval_testdata import run_cli_in_process
 from phase_testdata import (EST_K, F_ERR, G, LIFTOFF_K, MASS, ROT_ERR_DEG, TOUCHDOWN_K, Z_ERR,
                             region, truth_mps2, write_flight)
 from test_eval_phases_unchanged import GOLDEN, TMP, _same, strip_added
+from plot_checks import assert_plot
 
 SEGMENTS = ["landed", "airborne", "lift-off 1", "touchdown 1"]
 
@@ -178,8 +179,9 @@ def test_plots_shade_landed_intervals_and_mark_events(tmp_path):
     paths = write_flight(tmp_path)
     for command in ("traj", "force"):
         _run(tmp_path / command, command, "--plot", tmp_path / "plots")
-    for name in ("force_world.png", "traj_errors.png"):
-        assert (tmp_path / "plots" / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # truth and estimate per axis, the error; position (red) and rotation (purple) errors
+    assert_plot(tmp_path / "plots" / "force_world.png", ("black", "tab:blue", "tab:red"))
+    assert_plot(tmp_path / "plots" / "traj_errors.png", ("tab:red", "tab:purple"))
     seg = segment_phases(load_phases(paths["mav0"] / "phase0" / "data.csv"))
     fig, ax = new_figure()
     ax.plot([1.0, 19.0], [0.0, 1.0])

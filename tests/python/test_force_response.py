@@ -9,6 +9,7 @@ import pytest
 from vid_eval.force_response import force_response
 from vid_eval.plots.force_response import plot_force_response
 from vid_eval.series import VectorSeries
+from plot_checks import assert_plot
 
 T0_NS = 10**18
 
@@ -161,4 +162,5 @@ def test_plot_writes_png(tmp_path):
     e[after, 0] = 3.0 * (1.0 - np.exp(-(t[after] - 2.0) / 0.1))
     path = plot_force_response(force_response(_series(t_ns, e), _series(t_ns, g)), tmp_path)
     assert path == tmp_path / "force_response.png"
-    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 10_000
+    # correlations (axis colours, combined black), |truth| black and |estimate| blue, the step marked red
+    assert_plot(path, ("black", "tab:blue", "tab:red", "tab:green"))
