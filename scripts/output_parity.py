@@ -31,9 +31,9 @@ import subprocess
 import sys
 
 REPO = pathlib.Path(__file__).resolve().parents[1]
-# Names of measured (wall / CPU) times and of things derived from them.
+# Names of measured (wall / CPU) times and of things derived from them, and the build's git id.
 VOLATILE = re.compile(r"(^|_|\s)(ms|cpu|wall|timing|elapsed|realtime|real_time|seconds_taken|per_frame|"
-                      r"fps|speed|hz_achieved|duration_wall|throughput|time_s|time_ms|train_s|decode|memory|rss|time)(_|\s|$)",
+                      r"fps|speed|hz_achieved|duration_wall|throughput|time_s|time_ms|train_s|decode|memory|rss|time|wait|git)(_|\s|$)",
                       re.IGNORECASE)
 NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|nan|inf", re.IGNORECASE)
 
