@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -92,6 +93,37 @@ std::optional<AteResult> ate_posyaw(const Vec3Series& est, const Vec3Series& gt)
   for (const auto& [ie, ig] : pairs) sq += (R * est.v[ie] + r.translation - gt.v[ig]).squaredNorm();
   r.rmse_m = std::sqrt(sq / n);
   r.pairs = pairs.size();
+  return r;
+}
+
+Vec3Series slice(const Vec3Series& s, TimeNs t0, TimeNs t1) {
+  Vec3Series out;
+  for (std::size_t i = 0; i < s.t_ns.size(); ++i) {
+    if (s.t_ns[i] < t0 || s.t_ns[i] >= t1) continue;
+    out.t_ns.push_back(s.t_ns[i]);
+    out.v.push_back(s.v[i]);
+  }
+  return out;
+}
+
+std::optional<SegmentedAte> ate_posyaw_segments(const Vec3Series& est, const Vec3Series& gt,
+                                                const std::vector<TimeNs>& starts) {
+  std::vector<TimeNs> cuts = starts.size() < 2 ? std::vector<TimeNs>{INT64_MIN} : starts;
+  cuts.front() = INT64_MIN;  // the first piece also holds anything before the first start
+  SegmentedAte r;
+  double sq = 0.0;
+  for (std::size_t k = 0; k < cuts.size(); ++k) {
+    const TimeNs t1 = k + 1 < cuts.size() ? cuts[k + 1] : INT64_MAX;
+    const std::optional<AteResult> a = ate_posyaw(slice(est, cuts[k], t1), gt);
+    if (!a) continue;
+    if (r.segments.empty()) r.pooled.yaw_rad = a->yaw_rad;
+    r.t_start_ns.push_back(k == 0 && !starts.empty() ? starts.front() : cuts[k]);
+    r.segments.push_back(*a);
+    sq += a->rmse_m * a->rmse_m * static_cast<double>(a->pairs);
+    r.pooled.pairs += a->pairs;
+  }
+  if (r.pooled.pairs == 0) return std::nullopt;
+  r.pooled.rmse_m = std::sqrt(sq / static_cast<double>(r.pooled.pairs));
   return r;
 }
 

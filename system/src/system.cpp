@@ -89,6 +89,10 @@ System::~System() = default;
 void System::build_estimator() {
   PipelineConfig pcfg;
   pcfg.params = p_.config.estimator;
+  // After a divergence the vehicle is rarely at rest, and a smooth stretch of flight can pass the
+  // IMU's still test (vid17_like did, 0.5 s after its divergence): a restart initializes as
+  // `auto`, whose still window must also be still for the camera, in flight otherwise.
+  if (restarts_ > 0 && pcfg.params.init_mode == InitMode::kStatic) pcfg.params.init_mode = InitMode::kAuto;
   pcfg.vehicle = p_.config.vehicle.value_or(VehicleParams{});
   pcfg.cameras = p_.config.cameras;
   pipeline_ = std::make_unique<Pipeline>(pcfg);
@@ -103,8 +107,8 @@ void System::build_estimator() {
 void System::restart() {
   add_counters(past_counters_, pipeline_->counters());
   tracking_ms_.clear();
-  build_estimator();
   ++restarts_;
+  build_estimator();
 }
 
 void System::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu) {

@@ -142,13 +142,42 @@ PipelineCounters System::counters() const {
   return c;
 }
 
+namespace {
+// A world-frame series rotated piece by piece with each piece's alignment yaw.
+Vec3Series rotate_pieces(const Vec3Series& f_W, const SegmentedAte& seg) {
+  Vec3Series out;
+  for (std::size_t k = 0; k < seg.segments.size(); ++k) {
+    const TimeNs t0 = k == 0 ? INT64_MIN : seg.t_start_ns[k];
+    const TimeNs t1 = k + 1 < seg.segments.size() ? seg.t_start_ns[k + 1] : INT64_MAX;
+    const Vec3Series piece = rotate_about_z(slice(f_W, t0, t1), seg.segments[k].yaw_rad);
+    out.t_ns.insert(out.t_ns.end(), piece.t_ns.begin(), piece.t_ns.end());
+    out.v.insert(out.v.end(), piece.v.begin(), piece.v.end());
+  }
+  return out;
+}
+}  // namespace
+
 void System::score(nlohmann::json& s, const Vec3Series& est_p, const Vec3Series& est_f_W, const Vec3Series& est_f_I,
                    const std::string& sfx) const {
+  // After a re-initialization the estimator has a new world frame: each piece between two
+  // initializations is aligned on its own (README "Recovery from divergence").
+  std::vector<TimeNs> starts;
+  for (const InitRecord& r : counters().inits) starts.push_back(r.t_ns);
+  std::sort(starts.begin(), starts.end());
+  std::optional<SegmentedAte> seg;
+  if (!gt_p_.t_ns.empty()) seg = ate_posyaw_segments(est_p, gt_p_, starts);
   std::optional<AteResult> ate;
-  if (!gt_p_.t_ns.empty()) ate = ate_posyaw(est_p, gt_p_);
+  if (seg) ate = seg->pooled;
   if (ate) {
     s["ate_posyaw_m" + sfx] = ate->rmse_m;
     s["ate_pairs" + sfx] = ate->pairs;
+  }
+  if (seg && seg->segments.size() > 1) {
+    nlohmann::json pieces = nlohmann::json::array();
+    for (std::size_t k = 0; k < seg->segments.size(); ++k)
+      pieces.push_back({{"t_start_ns", seg->t_start_ns[k]}, {"ate_posyaw_m", seg->segments[k].rmse_m},
+                        {"pairs", seg->segments[k].pairs}, {"yaw_deg", seg->segments[k].yaw_rad * 180.0 / M_PI}});
+    s["ate_segments" + sfx] = pieces;
   }
   const auto& truth_vehicle = p_.truth_vehicle;
   if (dynamics() && !gt_f_W_.t_ns.empty() && (!mass_t_.empty() || truth_vehicle)) {
@@ -162,7 +191,7 @@ void System::score(nlohmann::json& s, const Vec3Series& est_p, const Vec3Series&
     std::size_t pairs = 0;
     if (!ate) {
       s["force_rmse_world_note" + sfx] = "no ground-truth poses to align the estimator's world frame: world-frame force not scored";
-    } else if (auto rmse = force_rmse(rotate_about_z(est_f_W, ate->yaw_rad), gt_f, &pairs)) {
+    } else if (auto rmse = force_rmse(rotate_pieces(est_f_W, *seg), gt_f, &pairs)) {
       s["force_rmse_world_mps2" + sfx] = *rmse;
       s["force_pairs" + sfx] = pairs;
       s["force_alignment" + sfx] = {{"mode", "posyaw"}, {"yaw_deg", ate->yaw_rad * 180.0 / M_PI}};

@@ -154,13 +154,14 @@ def t_first(path):
 
 def test_divergence_from_absurd_imu_data(euroc_feat, tmp_path):
     """imu mode: 1 s of 5000 m/s^2 accelerometer readings mid-run drives the velocity far
-    beyond any bound; the run stops, says so in summary.json and exits 3."""
+    beyond any bound; with --on-divergence stop the run stops, says so in summary.json and exits
+    3 (the default re-initializes: test_vid_run_reinit.py)."""
     bad = link_copy(euroc_feat, tmp_path / "bad")
     imu = bad / "mav0" / "imu0" / "data.csv"
     t0 = t_first(imu)
     corrupt_csv_rows(imu, t0 + 4_000_000_000, t0 + 5_000_000_000, [4, 5, 6], 5000.0)
     out = tmp_path / "run"
-    r = vid_run(bad, out, "--mode", "imu")
+    r = vid_run(bad, out, "--mode", "imu", "--on-divergence", "stop")
     assert r.returncode == 3, r.stderr
     s = summary(out)
     assert s["status"] == "diverged"

@@ -11,6 +11,9 @@
 
 namespace vid {
 namespace {
+// Inertial chi2 per degree of freedom beyond which the window is refused: residuals 30x the
+// modelled noise.
+constexpr double kMaxInertialChi2PerDof = 1000.0;
 constexpr int kMaxFrames = 16;     // frames of the window used (evenly spaced): cost, not accuracy
 constexpr int kMaxLandmarks = 120;  // cost: the dense system has 3 unknowns per landmark
 constexpr int kWantedPerFrame = 40;  // tracks per frame the selection aims at
@@ -184,6 +187,13 @@ std::optional<InitResult> DynamicInitializer::try_window() {
   diag_.inertial_chi2_per_dof = s.chi2_per_dof;
   if (!s.cov.allFinite() || !s.v_I.allFinite()) {
     reason_ = "gravity and velocity not determined";
+    return std::nullopt;
+  }
+  // IMU and camera far apart over the window: corrupted samples (a burst of garbage after which
+  // the run re-initializes gave 2e8), not a mis-set noise density (the real Blackbird IMU with
+  // the importer's noise: up to 20; the covariance is inflated by chi2/dof for those).
+  if (s.chi2_per_dof > kMaxInertialChi2PerDof) {
+    reason_ = "the IMU disagrees with the camera over the window (chi2/dof " + std::to_string(s.chi2_per_dof) + ")";
     return std::nullopt;
   }
   InitResult r = hand_over(s);

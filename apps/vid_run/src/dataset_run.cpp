@@ -24,6 +24,9 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
+// A divergence within this long after a re-initialization is the same fault: the run stops.
+constexpr double kPersistentFaultS = 10.0;
+
 // A run that never initialized, or that used no camera frame, has no estimate worth an exit 0
 // (its summary.json may still show a perfect-looking ATE over a few IMU-only estimates).
 RunResult honest_end(const system::System& session, const nlohmann::json& s) {
@@ -112,6 +115,8 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   TimeNs t_first_used = 0, t_last_used = 0;
   std::unique_ptr<ProgressBar> bar;
   bool interrupted = false, diverged = false;
+  nlohmann::json divergences = nlohmann::json::array();  // each, recovered or not
+  std::optional<TimeNs> last_restart;
   double decode_cpu_pushed_ms = 0.0;
 
   // A data error mid-run (a CSV row, a bad frame under --strict) still closes the outputs and
@@ -141,9 +146,22 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
         session.push(p->m);
       }
       if (session.status() == FilterStatus::kDiverged) {
-        diverged = true;
-        spdlog::error("estimator diverged at t = {:.3f} s: {}", ns_to_s(t - *t0), session.status_message());
-        break;
+        divergences.push_back({{"t_ns", t}, {"message", session.status_message()}});
+        // A fault that outlives a re-initialization (a wrong calibration, a sensor that stays
+        // broken) diverges again soon: then the run stops as without --on-divergence reinit.
+        const bool again = last_restart && t - *last_restart < seconds_to_ns(kPersistentFaultS);
+        if (!opt.reinit_on_divergence || again) {
+          diverged = true;
+          spdlog::error("estimator diverged at t = {:.3f} s: {}{}", ns_to_s(t - *t0), session.status_message(),
+                        again ? fmt::format(" (again, {:.1f} s after re-initializing: the fault persists)",
+                                            ns_to_s(t - *last_restart))
+                              : "");
+          break;
+        }
+        spdlog::warn("estimator diverged at t = {:.3f} s: {}; re-initializing from the data (--on-divergence reinit)",
+                     ns_to_s(t - *t0), session.status_message());
+        session.restart();
+        last_restart = t;
       }
       if (bar) {
         const double elapsed = std::chrono::duration<double>(Clock::now() - wall_start).count();
@@ -182,6 +200,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   } else if (diverged) {
     s["status"] = "diverged";
   }
+  if (!divergences.empty()) s["divergences"] = divergences;
   s["decode_ahead"] = {{"decode_threads", po.decode_threads},
                        {"frames_ahead", po.decode_threads > 0 ? po.max_frames : 0},
                        {"frames_decoded", prefetch_stats.frames_decoded},

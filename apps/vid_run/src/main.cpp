@@ -56,6 +56,12 @@ int main(int argc, char** argv) {
     app.add_option("--rerun", rerun,
                    "after the run, log it (trajectory, force, tracked features, images) to this Rerun .rrd file "
                    "with `vid-eval view` (implies --tracks)");
+    std::string on_divergence = "reinit";
+    app.add_option("--on-divergence", on_divergence,
+                   "reinit: start the estimator again from the data (in flight with init_mode auto) and go on, "
+                   "each divergence one warning line and listed in summary.json; stop: end the run, exit 3 "
+                   "(default reinit)")
+        ->check(CLI::IsMember({"reinit", "stop"}));
     bool quiet = false;
     app.add_flag("--quiet", quiet, "no progress bar, warnings only");
     if (const auto code = vid::app::parse_cli(app, argc, argv)) return *code;
@@ -65,6 +71,7 @@ int main(int argc, char** argv) {
     opt.features = features == "images"  ? vid::system::FeatureSource::kImages
                    : features == "feat0" ? vid::system::FeatureSource::kFeat0
                                          : vid::system::FeatureSource::kAuto;
+    opt.reinit_on_divergence = on_divergence == "reinit";
     opt.progress = !quiet;
     if (quiet) spdlog::set_level(spdlog::level::warn);
     std::signal(SIGINT, on_sigint);

@@ -43,6 +43,21 @@ struct AteResult {
 /// @brief ATE position RMSE after the closed-form yaw + translation alignment over all pairs.
 std::optional<AteResult> ate_posyaw(const Vec3Series& est, const Vec3Series& gt);
 
+/// @brief The estimate cut at @p starts (ascending; the times the estimator was initialized):
+/// each piece is its own world frame after a re-initialization, so each is aligned on its own
+/// (ate_posyaw); rmse_m pools their squared errors, yaw_rad is per piece. One piece when
+/// @p starts has fewer than two entries.
+struct SegmentedAte {
+  AteResult pooled;                 ///< rmse over every pair, pairs the total (yaw: the first piece's)
+  std::vector<TimeNs> t_start_ns;   ///< start of each aligned piece
+  std::vector<AteResult> segments;  ///< per piece (pieces without a pair left out)
+};
+std::optional<SegmentedAte> ate_posyaw_segments(const Vec3Series& est, const Vec3Series& gt,
+                                                const std::vector<TimeNs>& starts);
+
+/// @brief The piece of @p s with t in [t0, t1).
+Vec3Series slice(const Vec3Series& s, TimeNs t0, TimeNs t1);
+
 /// @brief RMSE of ||f_est - f_gt|| [m/s^2] after nearest association; nullopt without pairs.
 /// Both series must be in one frame: rotate a world-frame estimate into the ground truth's
 /// world first (rotate_about_z with the ATE's yaw), the estimator's heading is its own.

@@ -82,7 +82,8 @@ class System {
   /// @brief End of stream: process everything still queued.
   void finish();
   /// @brief Replace the estimator (and tracker) by fresh ones after divergence; outputs,
-  /// counters and metrics continue.
+  /// counters and metrics continue. The new one initializes from the data, as init_mode `auto`
+  /// where the config says `static` (README "Recovery from divergence").
   void restart();
 
   // --- Observers ------------------------------------------------------------------------------

@@ -39,6 +39,9 @@ struct RunOptions {
   int decode_threads = 1;
   /// Also write out_dir/tracks.csv (the frontend's tracked features, vid_track's format).
   bool write_tracks = false;
+  /// When the health checks report divergence: start the estimator again from the data (the
+  /// config's init_mode: in flight with `auto`) and go on (true), or stop with exit 3 (false).
+  bool reinit_on_divergence = true;
 };
 
 /// @brief How a run ended (the program's exit code follows it; apps/vid_run/README.md "Exit
