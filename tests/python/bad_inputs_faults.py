@@ -1,0 +1,51 @@
+"""Bad-input table, part 3 (issue #52, "silent faults"): inputs that used to run with status ok -
+an IMU rate that disagrees with the imu0 stamps, negative thrust, an IMU extrinsic that would be
+ignored, a garbage block inside an LCM log. Cases as in bad_inputs_data.py; no tests here."""
+from __future__ import annotations
+
+from bad_inputs_data import Case, dataset, rows_of, vid_run, write_rows
+from bad_inputs_io import vid_live
+from test_vid_run_helpers import replace_file
+
+
+# --- IMU rate ----------------------------------------------------------------------------------
+def _imu_at_100hz(ds) -> None:
+    """Keep every 4th row of the 400 Hz imu0 stream: a 100 Hz IMU."""
+    csv = ds / "mav0" / "imu0" / "data.csv"
+    head, rows = rows_of(csv)
+    write_rows(csv, head, rows[::4])
+
+
+def imu_rate_case(what: str, sensor_yaml: bool) -> Case:
+    def make(ctx, d):
+        ds = dataset(ctx, d, "feat")
+        _imu_at_100hz(ds)
+        yaml = ds / "mav0" / "imu0" / "sensor.yaml"
+        if not sensor_yaml:
+            yaml.unlink()
+        return vid_run(ds, d), str(yaml)
+    return Case("rates", what, make)
+
+
+def live_rate_case() -> Case:
+    """vid_live: --sensors says 100 Hz, the log's IMU messages come at 400 Hz."""
+    def make(ctx, d):
+        ds = dataset(ctx, d, "feat")
+        yaml = ds / "mav0" / "imu0" / "sensor.yaml"
+        text = "\n".join("rate_hz: 100" if line.startswith("rate_hz:") else line
+                         for line in yaml.read_text().splitlines())
+        replace_file(yaml, (text + "\n").encode())
+        argv = vid_live(ctx, f"file://{ctx.log}?speed=0")
+        argv[argv.index(str(ctx.feat))] = str(ds)
+        return argv, str(yaml)
+    return Case("rates", "vid_live: imu0/sensor.yaml rate_hz 100, IMU messages at 400 Hz", make)
+
+
+def rate_cases() -> list:
+    return [imu_rate_case("imu0 at 100 Hz, no imu0/sensor.yaml (config/sim imu_rate_hz 400)", False),
+            imu_rate_case("imu0 at 100 Hz, imu0/sensor.yaml rate_hz 400", True),
+            live_rate_case()]
+
+
+def all_cases() -> list:
+    return rate_cases()
