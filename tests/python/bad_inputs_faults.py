@@ -47,5 +47,46 @@ def rate_cases() -> list:
             live_rate_case()]
 
 
+# --- Thrust direction -----------------------------------------------------------------------------
+def _rotor_to_thrust(ds, sign: float) -> None:
+    """Replace rotor0 by thrust0 (the collective thrust of the rotor speeds, times sign)."""
+    mav0 = ds / "mav0"
+    k = [2.689e-07, 2.819e-07, 2.7263e-07, 2.7741e-07]  # the vid17_like vehicle.yaml
+    _, rows = rows_of(mav0 / "rotor0" / "data.csv")
+    thrust = []
+    for r in rows:
+        f = r.split(",")
+        thrust.append(f"{f[0]},{sign * sum(ki * float(n) ** 2 for ki, n in zip(k, f[1:])):.6f}")
+    for f in (mav0 / "rotor0").iterdir():
+        f.unlink()
+    (mav0 / "rotor0").rmdir()
+    (mav0 / "thrust0").mkdir()
+    (mav0 / "thrust0" / "data.csv").write_text("#timestamp [ns],thrust [N]\n" + "\n".join(thrust) + "\n")
+
+
+def negative_thrust_case() -> Case:
+    def make(ctx, d):
+        ds = dataset(ctx, d, "feat")
+        _rotor_to_thrust(ds, -1.0)  # what a z-down IMU frame gives
+        return vid_run(ds, d), str(ds / "mav0" / "thrust0" / "data.csv")
+    return Case("thrust", "thrust0/data.csv: negative collective thrust (z-down frame)", make)
+
+
+def negative_coefficient_case() -> Case:
+    def make(ctx, d):
+        ds = dataset(ctx, d, "feat")
+        yaml = ds / "mav0" / "vehicle.yaml"
+        text = "\n".join("rotor_thrust_coefficients: [-2.7e-07, -2.7e-07, -2.7e-07, -2.7e-07]"
+                         if line.startswith("rotor_thrust_coefficients") else line
+                         for line in yaml.read_text().splitlines())
+        replace_file(yaml, (text + "\n").encode())
+        return vid_run(ds, d), str(yaml)
+    return Case("thrust", "vehicle.yaml: negative rotor_thrust_coefficients (rotor0 thrust < 0)", make)
+
+
+def thrust_cases() -> list:
+    return [negative_thrust_case(), negative_coefficient_case()]
+
+
 def all_cases() -> list:
-    return rate_cases()
+    return rate_cases() + thrust_cases()

@@ -90,7 +90,7 @@ def test_table(results, ctx):
     kinds = {c.kind for c in CASES}
     assert len(CASES) >= 150
     assert {"CSV", "images", "YAML", "gaps", "ranges", "LCM log", "LCM URL", "bags", "topic maps", "CLI",
-            "paths", "rates"} <= kinds
+            "paths", "rates", "thrust"} <= kinds
     target = os.environ.get("VID_BAD_INPUT_TABLE")
     if not target:
         return
