@@ -129,10 +129,19 @@ SystemParams make_system_params(const SystemOptions& opt, const io::DatasetCalib
     throw std::runtime_error(opt.context +
                              ": dynamics mode needs rotor speeds (rotor0/) or thrust (thrust0/), and the dataset has "
                              "neither; run with --mode imu");
-  if (dynamics && (!cfg.vehicle || (opt.has_rotor && cfg.vehicle->rotor_thrust_coefficients.empty())))
-    throw std::runtime_error(opt.context +
-                             ": dynamics mode needs vehicle.yaml (mass_kg, rotor_thrust_coefficients) in the dataset or "
-                             "the --config preset");
+  // thrust0 is the measured thrust: with it, rotor speeds are not needed (nor their coefficients).
+  p.ignore_rotor_speeds = opt.has_thrust && opt.has_rotor;
+  const bool rotor_thrust = opt.has_rotor && !opt.has_thrust;
+  if (dynamics && !cfg.vehicle)
+    throw std::runtime_error(opt.context + ": dynamics mode needs vehicle.yaml with mass_kg" +
+                             (rotor_thrust ? " and rotor_thrust_coefficients (for the rotor0/ speeds)" : "") +
+                             " in the dataset or the --config preset");
+  if (dynamics && rotor_thrust && cfg.vehicle->rotor_thrust_coefficients.empty()) {
+    const std::string& source = cfg.sources.at("vehicle");
+    throw std::runtime_error((source.rfind("dataset", 0) == 0 ? opt.context + ": vehicle.yaml" : source) +
+                             ": no rotor_thrust_coefficients, which dynamics mode needs to turn the rotor0/ speeds "
+                             "into thrust (or give thrust0/, or run with --mode imu)");
+  }
   if (cfg.cameras.empty())
     throw std::runtime_error(opt.context + ": no camera calibration (camN/sensor.yaml or --config camchain.yaml)");
   return p;

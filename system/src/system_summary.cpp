@@ -180,6 +180,7 @@ nlohmann::json System::summary() const {
   s["version"] = {{"vid_msckf", version()}, {"git", git_sha()}};
   s["mode"] = to_string(cfg.estimator.mode);
   s["mode_source"] = p_.mode_source;
+  if (p_.ignore_rotor_speeds) s["thrust_source"] = "thrust0 (rotor0 present, not used)";
   s["init"] = to_string(cfg.estimator.init_mode);
   s["features"] = p_.features == FeatureSource::kFeat0 ? "feat0" : "images";
   s["status"] = to_string(pipeline_->status());

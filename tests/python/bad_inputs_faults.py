@@ -48,8 +48,9 @@ def rate_cases() -> list:
 
 
 # --- Thrust direction -----------------------------------------------------------------------------
-def _rotor_to_thrust(ds, sign: float) -> None:
-    """Replace rotor0 by thrust0 (the collective thrust of the rotor speeds, times sign)."""
+def _rotor_to_thrust(ds, sign: float, keep_rotor: bool = False) -> None:
+    """Replace rotor0 by (or with keep_rotor, add beside it) thrust0: the collective thrust of
+    the rotor speeds, times sign."""
     mav0 = ds / "mav0"
     k = [2.689e-07, 2.819e-07, 2.7263e-07, 2.7741e-07]  # the vid17_like vehicle.yaml
     _, rows = rows_of(mav0 / "rotor0" / "data.csv")
@@ -57,9 +58,10 @@ def _rotor_to_thrust(ds, sign: float) -> None:
     for r in rows:
         f = r.split(",")
         thrust.append(f"{f[0]},{sign * sum(ki * float(n) ** 2 for ki, n in zip(k, f[1:])):.6f}")
-    for f in (mav0 / "rotor0").iterdir():
-        f.unlink()
-    (mav0 / "rotor0").rmdir()
+    if not keep_rotor:
+        for f in (mav0 / "rotor0").iterdir():
+            f.unlink()
+        (mav0 / "rotor0").rmdir()
     (mav0 / "thrust0").mkdir()
     (mav0 / "thrust0" / "data.csv").write_text("#timestamp [ns],thrust [N]\n" + "\n".join(thrust) + "\n")
 
@@ -84,8 +86,32 @@ def negative_coefficient_case() -> Case:
     return Case("thrust", "vehicle.yaml: negative rotor_thrust_coefficients (rotor0 thrust < 0)", make)
 
 
+def _drop_coefficients(ds):
+    yaml = ds / "mav0" / "vehicle.yaml"
+    text = [line for line in yaml.read_text().splitlines() if not line.startswith("rotor_thrust_coefficients")]
+    replace_file(yaml, ("\n".join(text) + "\n").encode())
+    return yaml
+
+
+def vehicle_case(what: str, thrust0: bool, vehicle: str) -> Case:
+    """Dynamics mode: what vehicle.yaml must hold (mass_kg always, rotor_thrust_coefficients for rotor0)."""
+    def make(ctx, d):
+        ds = dataset(ctx, d, "feat")
+        if thrust0:
+            _rotor_to_thrust(ds, 1.0)
+        yaml = ds / "mav0" / "vehicle.yaml"
+        if vehicle == "none":
+            yaml.unlink()
+            return vid_run(ds, d, "--mode", "dynamics"), "mass_kg"
+        _drop_coefficients(ds)
+        return vid_run(ds, d, "--mode", "dynamics"), "rotor_thrust_coefficients"
+    return Case("thrust", what, make)
+
+
 def thrust_cases() -> list:
-    return [negative_thrust_case(), negative_coefficient_case()]
+    return [negative_thrust_case(), negative_coefficient_case(),
+            vehicle_case("--mode dynamics, thrust0, no vehicle.yaml", True, "none"),
+            vehicle_case("--mode dynamics, rotor0, vehicle.yaml without rotor_thrust_coefficients", False, "no k")]
 
 
 def all_cases() -> list:

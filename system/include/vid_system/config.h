@@ -64,6 +64,8 @@ struct SystemParams {
   /// vehicle of the input's ground truth: its mass turns force0 [N] into m/s^2 for the force
   /// metrics when no mass0 stream is pushed (the dataset's own vehicle.yaml)
   std::optional<VehicleParams> truth_vehicle;
+  /// thrust0 and rotor0 both present: thrust0 is the thrust, rotor speeds are not used
+  bool ignore_rotor_speeds = false;
 };
 
 /// @brief What a program knows before the first measurement (command line, streams present).
