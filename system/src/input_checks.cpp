@@ -64,6 +64,15 @@ void check_imu_rate(const SystemConfig& cfg, double measured_hz, const fs::path&
                                      cfg.sources.at("imu"), used, stamps, measured_hz));
 }
 
+void check_imu_extrinsic(const SystemConfig& cfg, const fs::path& imu_yaml) {
+  if (!cfg.imu || cfg.imu->T_BS.matrix().isIdentity(1e-9)) return;
+  const std::string where = imu_from_dataset(cfg) ? imu_yaml.string() + ": key 'T_BS'"
+                                                  : cfg.sources.at("imu") + ": key 'imu0.T_i_b'";
+  throw io::ConfigError(where +
+                        ": not the identity; the IMU frame is the body frame here and the estimator does not apply "
+                        "an IMU extrinsic (express imu0 and the camera T_BS in the IMU frame)");
+}
+
 void ImuRateWatch::add(TimeNs t, const SystemConfig& cfg) {
   if (done_) return;
   if (last_ && t > *last_) intervals_.push_back(t - *last_);

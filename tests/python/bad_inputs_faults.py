@@ -114,5 +114,22 @@ def thrust_cases() -> list:
             vehicle_case("--mode dynamics, rotor0, vehicle.yaml without rotor_thrust_coefficients", False, "no k")]
 
 
+# --- IMU extrinsic ---------------------------------------------------------------------------------
+def imu_extrinsic_case() -> Case:
+    """imu0/sensor.yaml T_BS with a 5 cm offset: refused (the estimator would ignore it)."""
+    def make(ctx, d):
+        ds = dataset(ctx, d, "feat")
+        yaml = ds / "mav0" / "imu0" / "sensor.yaml"
+        lines, in_tbs = [], False
+        for line in yaml.read_text().splitlines():
+            in_tbs = line.startswith("T_BS") or (in_tbs and line.startswith(" "))
+            if not line.startswith("T_BS") and not in_tbs:
+                lines.append(line)
+        lines.append("T_BS: {cols: 4, rows: 4, data: [1, 0, 0, 0.05, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]}")
+        replace_file(yaml, ("\n".join(lines) + "\n").encode())
+        return vid_run(ds, d), str(yaml)
+    return Case("YAML", "imu0/sensor.yaml: T_BS not the identity (5 cm offset)", make)
+
+
 def all_cases() -> list:
-    return rate_cases() + thrust_cases()
+    return rate_cases() + thrust_cases() + [imu_extrinsic_case()]

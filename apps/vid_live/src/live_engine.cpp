@@ -28,6 +28,7 @@ LiveEngine::LiveEngine(LiveOptions options, lcm::LCM* publisher)
   }
   system::SystemParams sp = system::make_system_params(opt_.session, opt_.calibration);
   if (opt_.lag_s > 0.0) sp.config.estimator.smoother_lag_s = opt_.lag_s;
+  system::check_imu_extrinsic(sp.config, opt_.imu_yaml);
   session_ = std::make_unique<system::System>(std::move(sp));
   tracked_cameras_ = session_->tracked_cameras();
   imu_rate_.emplace(opt_.imu_yaml, "channel " + opt_.channels.imu);

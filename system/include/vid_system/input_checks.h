@@ -24,6 +24,11 @@ std::optional<double> median_rate_hz(const std::filesystem::path& csv, std::size
 void check_imu_rate(const SystemConfig& cfg, double measured_hz, const std::filesystem::path& imu_yaml,
                     const std::string& data);
 
+/// @brief Throw io::ConfigError when the IMU calibration's extrinsic (imu0/sensor.yaml T_BS, a
+/// preset imu.yaml's T_i_b) is not the identity: the IMU frame is the body frame here and the
+/// estimator does not apply it (docs/formats.md §2).
+void check_imu_extrinsic(const SystemConfig& cfg, const std::filesystem::path& imu_yaml);
+
 /// @brief check_imu_rate on a live stream: the median rate of the first kSamples IMU stamps is
 /// checked once (vid_live, whose IMU arrives as messages).
 class ImuRateWatch {
