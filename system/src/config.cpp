@@ -1,6 +1,8 @@
 #include "vid_system/config.h"
 
 #include <sstream>
+
+#include <yaml-cpp/yaml.h>
 #include <stdexcept>
 
 #include "frontend/frontend_params_yaml.h"
@@ -101,6 +103,50 @@ std::string describe(const SystemConfig& cfg) {
   if (cfg.rotor) os << "# rotor\n" << *cfg.rotor << "\n";
   if (cfg.vehicle) os << "# vehicle\n" << *cfg.vehicle << "\n";
   return os.str();
+}
+
+namespace {
+/// YAML as JSON: maps, lists, and scalars as integer, number, boolean or text (in that order).
+nlohmann::json to_json(const YAML::Node& n) {
+  if (n.IsMap()) {
+    nlohmann::json o = nlohmann::json::object();
+    for (const auto& kv : n) o[kv.first.as<std::string>()] = to_json(kv.second);
+    return o;
+  }
+  if (n.IsSequence()) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const auto& e : n) a.push_back(to_json(e));
+    return a;
+  }
+  if (!n.IsScalar()) return nullptr;
+  if (n.Tag() != "!") {  // unquoted: a number or boolean when it reads as one
+    long long i = 0;
+    double d = 0.0;
+    bool b = false;
+    if (YAML::convert<long long>::decode(n, i)) return i;
+    if (YAML::convert<double>::decode(n, d)) return d;
+    if (YAML::convert<bool>::decode(n, b)) return b;
+  }
+  return n.as<std::string>();
+}
+
+template <typename T>
+nlohmann::json part(const T& value, const std::string& name) {
+  std::ostringstream os;
+  os << value;
+  return to_json(io::YamlMap::parse_string(os.str(), name));
+}
+}  // namespace
+
+nlohmann::json describe_json(const SystemConfig& cfg) {
+  nlohmann::json j;
+  j["estimator"] = to_json(io::YamlMap::parse_string(io::to_yaml(cfg.estimator), "estimator"));
+  j["cameras"] = nlohmann::json::array();
+  for (const auto& cam : cfg.cameras) j["cameras"].push_back(part(cam, "cam" + std::to_string(cam.cam_id)));
+  if (cfg.imu) j["imu"] = part(*cfg.imu, "imu");
+  if (cfg.rotor) j["rotor"] = part(*cfg.rotor, "rotor");
+  if (cfg.vehicle) j["vehicle"] = part(*cfg.vehicle, "vehicle");
+  return j;
 }
 
 SystemParams make_system_params(const SystemOptions& opt, const io::DatasetCalibration& calibration) {

@@ -235,7 +235,8 @@ nlohmann::json System::summary() const {
   s["cpu"]["tracking_cpu"] = tracking_cpu_ms_.to_json();
   s["cpu"]["mean_cpu_ms_per_frame_excluding_decoding"] =
       c.frames > 0 ? (cpu_s * 1e3 - decode_cpu_ms_) / static_cast<double>(c.frames) : 0.0;
-  s["config"] = describe(cfg);
+  s["config"] = describe_json(cfg);
+  s["config_yaml"] = describe(cfg);  // the same, as the YAML files read
   s["config_sources"] = cfg.sources;
 
   // Metrics against ground truth, with the association and alignment of vid_eval; with

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "frontend/frontend_params.h"
 #include "io/dataset_reader.h"
 #include "vio_core/calibration.h"
@@ -47,8 +49,12 @@ struct SystemConfig {
 /// @throws io::ConfigError naming the file and key at fault
 SystemConfig resolve_config(const std::optional<std::filesystem::path>& config, const io::DatasetCalibration& dataset);
 
-/// @brief The configuration as YAML text (recorded into summary.json).
+/// @brief The configuration as YAML text (summary.json's config_yaml).
 std::string describe(const SystemConfig& cfg);
+
+/// @brief The same configuration as a JSON object (summary.json's config): estimator, cameras,
+/// imu, rotor, vehicle (the parts present; summary.json's config_sources names their files).
+nlohmann::json describe_json(const SystemConfig& cfg);
 
 /// @brief The typed parameters a System is built from (programs get them from
 /// make_system_params, tests build them in code).
