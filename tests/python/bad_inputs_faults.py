@@ -4,7 +4,7 @@ ignored, a garbage block inside an LCM log. Cases as in bad_inputs_data.py; no t
 from __future__ import annotations
 
 from bad_inputs_data import Case, dataset, rows_of, vid_run, write_rows
-from bad_inputs_io import vid_live
+from bad_inputs_io import cli_case, vid_live
 from test_vid_run_helpers import replace_file
 
 
@@ -131,5 +131,13 @@ def imu_extrinsic_case() -> Case:
     return Case("YAML", "imu0/sensor.yaml: T_BS not the identity (5 cm offset)", make)
 
 
+# --- One line for every program taking --lcm-url ------------------------------------------------
+def replay_url_cases() -> list:
+    return [cli_case("vid_replay", ["--dataset", "{feat}", "--lcm-url", "nosuchprovider://x", "--fast", "--quiet"],
+                     "--lcm-url nosuchprovider://x", kind="LCM URL"),
+            cli_case("vid_replay", ["--dataset", "{feat}", "--lcm-url", "udpm://10.0.0.1:7667", "--fast", "--quiet"],
+                     "--lcm-url udpm://10.0.0.1:7667", kind="LCM URL")]
+
+
 def all_cases() -> list:
-    return rate_cases() + thrust_cases() + [imu_extrinsic_case()]
+    return rate_cases() + thrust_cases() + [imu_extrinsic_case()] + replay_url_cases()
