@@ -4,7 +4,7 @@ ignored, a garbage block inside an LCM log. Cases as in bad_inputs_data.py; no t
 from __future__ import annotations
 
 from bad_inputs_data import Case, dataset, rows_of, vid_run, write_rows
-from bad_inputs_io import cli_case, vid_live
+from bad_inputs_io import cli_case, log_case, vid_live
 from test_vid_run_helpers import replace_file
 
 
@@ -139,5 +139,12 @@ def replay_url_cases() -> list:
                      "--lcm-url udpm://10.0.0.1:7667", kind="LCM URL")]
 
 
+def _overwrite_middle(data: bytes, n: int = 2000) -> bytes:
+    """n zero bytes written over the middle of a log (a damaged block, not inserted bytes)."""
+    m = len(data) // 2
+    return data[:m] + b"\0" * n + data[m + n:]
+
+
 def all_cases() -> list:
-    return rate_cases() + thrust_cases() + [imu_extrinsic_case()] + replay_url_cases()
+    return (rate_cases() + thrust_cases() + [imu_extrinsic_case()] + replay_url_cases()
+            + [log_case("2000 bytes overwritten in the middle", _overwrite_middle)])
