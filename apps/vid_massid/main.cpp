@@ -18,6 +18,12 @@ int main(int argc, char** argv) {
     vid::massid_app::add_run_report_commands(cli, &exit_code);
     vid::massid_app::add_elm_study_command(cli, &exit_code);
     vid::massid_app::add_from_sequence_command(cli, &exit_code);
+    // CLI11 says only "A subcommand is required" for a mistyped one: name it.
+    if (argc > 1 && argv[1][0] != '-') {
+      const std::string name = argv[1];
+      if (cli.get_subcommands([&](CLI::App* s) { return s->check_name(name); }).empty())
+        throw vid::app::UsageError("unknown subcommand '" + name + "' (see --help)");
+    }
     if (const auto code = vid::app::parse_cli(cli, argc, argv)) return *code;
     return exit_code;
   });

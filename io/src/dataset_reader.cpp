@@ -2,6 +2,7 @@
 
 #include <set>
 
+#include "io/number_format.h"
 #include "io/sensor_yaml.h"
 #include "stream_cursors.h"
 
@@ -99,7 +100,12 @@ void DatasetReader::Impl::open_streams() {
   }
   if (present.count("thrust0")) {
     cursors.push_back(make_row_cursor(csv("thrust0"), "thrust0", 2, [](const CsvReader& c, TimeNs t) -> Measurement {
-      return ThrustSample{t, c.get_double(1, "thrust [N]")};
+      const double thrust_N = c.get_double(1, "thrust [N]");
+      // Collective thrust points along +z of the IMU frame (up): a negative value is a z-down frame.
+      if (thrust_N < 0.0)
+        c.fail("column 2 'thrust [N]': negative collective thrust " + format_double(thrust_N) +
+               " (the thrust points along +z of the IMU frame, z up; a z-down frame needs its data converted)");
+      return ThrustSample{t, thrust_N};
     }, o));
   }
   std::vector<int> cams;

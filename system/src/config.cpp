@@ -1,6 +1,8 @@
 #include "vid_system/config.h"
 
 #include <sstream>
+
+#include <yaml-cpp/yaml.h>
 #include <stdexcept>
 
 #include "frontend/frontend_params_yaml.h"
@@ -103,6 +105,50 @@ std::string describe(const SystemConfig& cfg) {
   return os.str();
 }
 
+namespace {
+/// YAML as JSON: maps, lists, and scalars as integer, number, boolean or text (in that order).
+nlohmann::json to_json(const YAML::Node& n) {
+  if (n.IsMap()) {
+    nlohmann::json o = nlohmann::json::object();
+    for (const auto& kv : n) o[kv.first.as<std::string>()] = to_json(kv.second);
+    return o;
+  }
+  if (n.IsSequence()) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const auto& e : n) a.push_back(to_json(e));
+    return a;
+  }
+  if (!n.IsScalar()) return nullptr;
+  if (n.Tag() != "!") {  // unquoted: a number or boolean when it reads as one
+    long long i = 0;
+    double d = 0.0;
+    bool b = false;
+    if (YAML::convert<long long>::decode(n, i)) return i;
+    if (YAML::convert<double>::decode(n, d)) return d;
+    if (YAML::convert<bool>::decode(n, b)) return b;
+  }
+  return n.as<std::string>();
+}
+
+template <typename T>
+nlohmann::json part(const T& value, const std::string& name) {
+  std::ostringstream os;
+  os << value;
+  return to_json(io::YamlMap::parse_string(os.str(), name));
+}
+}  // namespace
+
+nlohmann::json describe_json(const SystemConfig& cfg) {
+  nlohmann::json j;
+  j["estimator"] = to_json(io::YamlMap::parse_string(io::to_yaml(cfg.estimator), "estimator"));
+  j["cameras"] = nlohmann::json::array();
+  for (const auto& cam : cfg.cameras) j["cameras"].push_back(part(cam, "cam" + std::to_string(cam.cam_id)));
+  if (cfg.imu) j["imu"] = part(*cfg.imu, "imu");
+  if (cfg.rotor) j["rotor"] = part(*cfg.rotor, "rotor");
+  if (cfg.vehicle) j["vehicle"] = part(*cfg.vehicle, "vehicle");
+  return j;
+}
+
 SystemParams make_system_params(const SystemOptions& opt, const io::DatasetCalibration& calibration) {
   SystemParams p;
   p.config = resolve_config(opt.config, calibration);
@@ -129,10 +175,19 @@ SystemParams make_system_params(const SystemOptions& opt, const io::DatasetCalib
     throw std::runtime_error(opt.context +
                              ": dynamics mode needs rotor speeds (rotor0/) or thrust (thrust0/), and the dataset has "
                              "neither; run with --mode imu");
-  if (dynamics && (!cfg.vehicle || (opt.has_rotor && cfg.vehicle->rotor_thrust_coefficients.empty())))
-    throw std::runtime_error(opt.context +
-                             ": dynamics mode needs vehicle.yaml (mass_kg, rotor_thrust_coefficients) in the dataset or "
-                             "the --config preset");
+  // thrust0 is the measured thrust: with it, rotor speeds are not needed (nor their coefficients).
+  p.ignore_rotor_speeds = opt.has_thrust && opt.has_rotor;
+  const bool rotor_thrust = opt.has_rotor && !opt.has_thrust;
+  if (dynamics && !cfg.vehicle)
+    throw std::runtime_error(opt.context + ": dynamics mode needs vehicle.yaml with mass_kg" +
+                             (rotor_thrust ? " and rotor_thrust_coefficients (for the rotor0/ speeds)" : "") +
+                             " in the dataset or the --config preset");
+  if (dynamics && rotor_thrust && cfg.vehicle->rotor_thrust_coefficients.empty()) {
+    const std::string& source = cfg.sources.at("vehicle");
+    throw std::runtime_error((source.rfind("dataset", 0) == 0 ? opt.context + ": vehicle.yaml" : source) +
+                             ": no rotor_thrust_coefficients, which dynamics mode needs to turn the rotor0/ speeds "
+                             "into thrust (or give thrust0/, or run with --mode imu)");
+  }
   if (cfg.cameras.empty())
     throw std::runtime_error(opt.context + ": no camera calibration (camN/sensor.yaml or --config camchain.yaml)");
   return p;

@@ -128,7 +128,9 @@ void System::push(const ImuSample& s) {
   to_pipeline(s);
 }
 
-void System::push(const RotorSample& s) { to_pipeline(s); }
+void System::push(const RotorSample& s) {
+  if (!p_.ignore_rotor_speeds) to_pipeline(s);
+}
 void System::push(const ThrustSample& s) { to_pipeline(s); }
 
 void System::push(const GroundTruthSample& s) {

@@ -209,6 +209,7 @@ nlohmann::json System::summary() const {
   s["version"] = {{"vid_msckf", version()}, {"git", git_sha()}};
   s["mode"] = to_string(cfg.estimator.mode);
   s["mode_source"] = p_.mode_source;
+  if (p_.ignore_rotor_speeds) s["thrust_source"] = "thrust0 (rotor0 present, not used)";
   s["init"] = to_string(cfg.estimator.init_mode);
   s["features"] = p_.features == FeatureSource::kFeat0 ? "feat0" : "images";
   s["status"] = to_string(pipeline_->status());
@@ -263,7 +264,8 @@ nlohmann::json System::summary() const {
   s["cpu"]["tracking_cpu"] = tracking_cpu_ms_.to_json();
   s["cpu"]["mean_cpu_ms_per_frame_excluding_decoding"] =
       c.frames > 0 ? (cpu_s * 1e3 - decode_cpu_ms_) / static_cast<double>(c.frames) : 0.0;
-  s["config"] = describe(cfg);
+  s["config"] = describe_json(cfg);
+  s["config_yaml"] = describe(cfg);  // the same, as the YAML files read
   s["config_sources"] = cfg.sources;
 
   // Metrics against ground truth, with the association and alignment of vid_eval; with

@@ -3,6 +3,7 @@
 /// @brief Deterministic synthetic sequences (mono, stereo, feature-level) written with
 /// DatasetWriter, and the measurements a reader must return for them.
 
+#include <cmath>
 #include <filesystem>
 #include <opencv2/core.hpp>
 #include <random>
@@ -88,7 +89,7 @@ inline WrittenSequence write_sequence(const std::filesystem::path& root, SeqKind
       RotorSample rs{t, {r(), r(), r(), r()}};
       writer.write(rs);
       all.push_back(rs);
-      ThrustSample ts{t + 1, r()};
+      ThrustSample ts{t + 1, std::abs(r())};  // collective thrust is never negative (the reader refuses it)
       writer.write(ts);
       all.push_back(ts);
       ForceSample fs{t, r3()};

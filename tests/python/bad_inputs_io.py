@@ -234,7 +234,7 @@ def cli_cases() -> list:
         c("vid_sim", ["--scenario", "{d}/none.yaml", "--out", "{d}/s", "--quiet"], "{d}/none.yaml", exit=1,
           kind="paths"),
         c("vid_massid", [], "subcommand"),
-        c("vid_massid", ["nosuchcommand"], "subcommand"),
+        c("vid_massid", ["nosuchcommand"], "unknown subcommand 'nosuchcommand'"),
         c("vid-eval", [], "COMMAND"),
         c("vid-eval", ["traj", "{d}/a.txt"], "gt"),
         c("vid-eval", ["traj", "{d}/a.txt", "{d}/b.txt"], "{d}/a.txt", exit=1, kind="paths"),

@@ -157,7 +157,7 @@ def test_continuous_mass_loss(configs, tmp_path_factory):
 
 def test_no_mass_file_without_the_state(configs, tmp_path_factory):
     r = run(configs, tmp_path_factory, "vid_loaded", 1, "default")
-    assert "thrust_scale_random_walk: 0\n" in r["summary"]["config"]  # off by default
+    assert r["summary"]["config"]["estimator"]["thrust_scale_random_walk"] == 0  # off by default
     assert not (r["out"] / "mass.csv").exists()
 
 

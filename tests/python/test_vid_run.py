@@ -118,7 +118,10 @@ def test_summary_has_stage_times_and_run_facts(dyn_images):
     assert 0.0 <= da["main_thread_wait_s"] < s["wall_time_s"]
     assert s["peak_memory_mib"] > 1.0
     assert abs(s["data_duration_s"] - SEQ_S) < 0.5
-    assert "thrust_noise_density" in s["config"]
+    # the configuration as a JSON object (numbers as numbers), and as the YAML text
+    assert s["config"]["estimator"]["imu_rate_hz"] == 400.0 and s["config"]["imu"]["rate_hz"] == 400.0
+    assert "thrust_noise_density" in s["config"]["estimator"]
+    assert "thrust_noise_density: " in s["config_yaml"]
     assert s["config_sources"]["estimator"].endswith("config/sim/estimator.yaml")
     timing_rows = (out / "timing.csv").read_text().splitlines()[1:]
     assert len(timing_rows) == s["timing"]["total"]["count"]

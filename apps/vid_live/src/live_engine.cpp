@@ -28,8 +28,10 @@ LiveEngine::LiveEngine(LiveOptions options, lcm::LCM* publisher)
   }
   system::SystemParams sp = system::make_system_params(opt_.session, opt_.calibration);
   if (opt_.lag_s > 0.0) sp.config.estimator.smoother_lag_s = opt_.lag_s;
+  system::check_imu_extrinsic(sp.config, opt_.imu_yaml);
   session_ = std::make_unique<system::System>(std::move(sp));
   tracked_cameras_ = session_->tracked_cameras();
+  imu_rate_.emplace(opt_.imu_yaml, "channel " + opt_.channels.imu);
   session_->on_estimate([this](const EstimateOutput& e) { publish_estimate(*session_, e); });
   session_->on_smoothed([this](const EstimateOutput& e) { publish_lagged(*session_, e); });
   session_->on_frame([this](const FrameTimings& ft) {
@@ -237,6 +239,7 @@ void LiveEngine::process(WorkItem& w) {
         },
         w);
     t = stamp_of(m);
+    if (std::holds_alternative<ImuSample>(m)) imu_rate_->add(t, session_->config());
     session_->push(m);
   }
   std::lock_guard<std::mutex> lock(mutex_);

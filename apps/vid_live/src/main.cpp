@@ -81,7 +81,10 @@ int main(int argc, char** argv) {
     if (vid::live::is_log_url(url)) log_scan = vid::live::scan_lcm_log(vid::live::log_path(url));
 
     vid::live::LiveOptions opt;
-    if (!sensors.empty()) opt.calibration = vid::live::load_sensor_files(sensors);
+    if (!sensors.empty()) {
+      opt.calibration = vid::live::load_sensor_files(sensors);
+      opt.imu_yaml = vid::live::sensor_root(sensors) / "imu0" / "sensor.yaml";
+    }
     if (!channels.empty()) opt.channels = vid::lcm_io::load_channels(channels);
     if (!config.empty()) opt.session.config = config;
     if (!out.empty()) opt.session.out_dir = out;

@@ -8,9 +8,11 @@ namespace vid::live {
 
 namespace fs = std::filesystem;
 
+fs::path sensor_root(const fs::path& dir) { return fs::is_directory(dir / "mav0") ? dir / "mav0" : dir; }
+
 io::DatasetCalibration load_sensor_files(const fs::path& dir) {
   if (!fs::is_directory(dir)) throw std::runtime_error(dir.string() + ": no such sensor folder");
-  const fs::path root = fs::is_directory(dir / "mav0") ? dir / "mav0" : dir;
+  const fs::path root = sensor_root(dir);
   io::DatasetCalibration c;
   for (int i = 0;; ++i) {
     const fs::path cam = root / ("cam" + std::to_string(i)) / "sensor.yaml";

@@ -9,6 +9,7 @@
 
 #include "app/cli.h"
 #include "app/run_main.h"
+#include "live/lcm_input.h"
 #include "replay/replay.h"
 
 namespace {
@@ -59,6 +60,7 @@ int main(int argc, char** argv) {
     bool quiet = false;
     app.add_flag("--quiet", quiet, "no progress bar, warnings only");
     if (const auto code = vid::app::parse_cli(app, argc, argv)) return *code;
+    vid::live::check_lcm_url(opt.lcm_url, "--lcm-url", /*for_input=*/false);  // LCM's own lines otherwise
     opt.dataset = dataset;
     if (stall.size() == 2) {
       if (stall[0] < 0.0 || stall[1] <= 0.0) throw vid::app::UsageError("--camera-stall: START >= 0 and DURATION > 0 expected");

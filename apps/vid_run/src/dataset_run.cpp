@@ -16,6 +16,7 @@
 #include "app/prefetch.h"
 #include "app/progress.h"
 #include "io/dataset_reader.h"
+#include "vid_system/input_checks.h"
 #include "vid_system/system.h"
 
 namespace vid::app {
@@ -84,6 +85,11 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   so.context = opt.dataset.string();
   so.write_tracks = opt.write_tracks;
   system::SystemParams sp = system::make_system_params(so, reader.calibration());
+  // The estimator discretizes the IMU noise at its configured rate: a wrong rate is an error.
+  const fs::path imu_csv = reader.mav0() / "imu0" / "data.csv";
+  system::check_imu_extrinsic(sp.config, reader.mav0() / "imu0" / "sensor.yaml");
+  if (const auto hz = system::median_rate_hz(imu_csv))
+    system::check_imu_rate(sp.config, *hz, reader.mav0() / "imu0" / "sensor.yaml", imu_csv.string());
   if (opt.smooth_lag_s) sp.config.estimator.smoother_lag_s = *opt.smooth_lag_s;
   system::System session(std::move(sp));
   if (opt.smooth_lag_s && !session.dynamics())

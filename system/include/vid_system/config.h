@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "frontend/frontend_params.h"
 #include "io/dataset_reader.h"
 #include "vio_core/calibration.h"
@@ -47,8 +49,12 @@ struct SystemConfig {
 /// @throws io::ConfigError naming the file and key at fault
 SystemConfig resolve_config(const std::optional<std::filesystem::path>& config, const io::DatasetCalibration& dataset);
 
-/// @brief The configuration as YAML text (recorded into summary.json).
+/// @brief The configuration as YAML text (summary.json's config_yaml).
 std::string describe(const SystemConfig& cfg);
+
+/// @brief The same configuration as a JSON object (summary.json's config): estimator, cameras,
+/// imu, rotor, vehicle (the parts present; summary.json's config_sources names their files).
+nlohmann::json describe_json(const SystemConfig& cfg);
 
 /// @brief The typed parameters a System is built from (programs get them from
 /// make_system_params, tests build them in code).
@@ -64,6 +70,8 @@ struct SystemParams {
   /// vehicle of the input's ground truth: its mass turns force0 [N] into m/s^2 for the force
   /// metrics when no mass0 stream is pushed (the dataset's own vehicle.yaml)
   std::optional<VehicleParams> truth_vehicle;
+  /// thrust0 and rotor0 both present: thrust0 is the thrust, rotor speeds are not used
+  bool ignore_rotor_speeds = false;
 };
 
 /// @brief What a program knows before the first measurement (command line, streams present).

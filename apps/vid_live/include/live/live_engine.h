@@ -24,6 +24,7 @@
 #include "io/lcm/lcm_convert.h"
 #include "live/live_types.h"
 #include "live/reorder_window.h"
+#include "vid_system/input_checks.h"
 #include "vid_system/system.h"
 
 namespace vid::live {
@@ -40,6 +41,7 @@ struct LiveOptions {
   double stall_s = 0.5;                    ///< no camera frame for this long (data time) = stall
   std::string source_url;                  ///< recorded in the summary
   double lag_s = 0.0;                      ///< > 0: fixed-lag smoothing, published on the *_LAGGED channels
+  std::filesystem::path imu_yaml = "imu0/sensor.yaml";  ///< named when the IMU rate disagrees (--sensors)
 };
 
 /// @brief Health of the estimator as published.
@@ -127,6 +129,7 @@ class LiveEngine {
   long published_lagged_ = 0;
   bool stalled_ = false;
   std::optional<TimeNs> first_t_, last_t_, last_frame_t_, last_status_t_;
+  std::optional<system::ImuRateWatch> imu_rate_;  ///< worker thread only
   std::map<TimeNs, SteadyClock::time_point> frame_arrival_;     ///< frames pushed, not yet processed
   std::vector<SteadyClock::time_point> processed_arrivals_;     ///< processed, awaiting a state
   system::StageStats latency_ms_;

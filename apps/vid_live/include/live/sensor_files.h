@@ -14,4 +14,7 @@ namespace vid::live {
 /// file; std::runtime_error when DIR does not exist.
 io::DatasetCalibration load_sensor_files(const std::filesystem::path& dir);
 
+/// @brief DIR/mav0 when it exists, else DIR: the folder that holds imu0/, cam0/, ...
+std::filesystem::path sensor_root(const std::filesystem::path& dir);
+
 }  // namespace vid::live
