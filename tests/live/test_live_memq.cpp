@@ -28,6 +28,7 @@ io::DatasetCalibration calibration() {
   cam.height = 120;
   c.cameras.push_back(cam);
   c.imu = ImuNoise{};
+  c.imu->rate_hz = 400.0;  // the Script's IMU (vid_live refuses a rate its stamps contradict)
   return c;
 }
 
