@@ -14,6 +14,11 @@ namespace {
 // Inertial chi2 per degree of freedom beyond which the window is refused: residuals 30x the
 // modelled noise.
 constexpr double kMaxInertialChi2PerDof = 1000.0;
+// Visual chi2 per degree of freedom of the frame positions beyond which the window is refused:
+// residuals 10x the pixel noise. The gyro's rotations over the window are wrong (garbage samples
+// inside it that the gyro-bias solve tried to absorb: 5e3 at the end of an IMU burst), not a
+// mis-set pixel noise (0.01-1.6 on every accepted simulated and Blackbird window).
+constexpr double kMaxVisualChi2PerDof = 100.0;
 constexpr int kMaxFrames = 16;     // frames of the window used (evenly spaced): cost, not accuracy
 constexpr int kMaxLandmarks = 120;  // cost: the dense system has 3 unknowns per landmark
 constexpr int kWantedPerFrame = 40;  // tracks per frame the selection aims at
@@ -173,6 +178,11 @@ std::optional<InitResult> DynamicInitializer::try_window() {
   diag_.landmarks = pos->landmarks;
   diag_.observations = pos->observations;
   diag_.visual_chi2_per_dof = pos->chi2_per_dof;
+  if (pos->chi2_per_dof > kMaxVisualChi2PerDof) {
+    reason_ = "the gyro's rotations disagree with the camera over the window (chi2/dof " +
+              std::to_string(pos->chi2_per_dof) + ")";
+    return std::nullopt;
+  }
   // The gyro bias's error turns the alphas: d alpha / d b_g numerically, times its covariance.
   const int K = static_cast<int>(w.alpha.size()) - 1;
   Eigen::MatrixXd Ja(3 * K, 3);
@@ -198,6 +208,13 @@ std::optional<InitResult> DynamicInitializer::try_window() {
   }
   InitResult r = hand_over(s);
   r.t_ns = frames_.back().t_ns;
+  const Eigen::Matrix3d R_WK = r.x.T_WI.q.toRotationMatrix();
+  for (int k = 0; k < K; ++k) {
+    TimedPose pose{times[k], Pose{}};
+    pose.T.q = Eigen::Quaterniond(R_WK * w.R_Kk[k]).normalized();
+    pose.T.p = r.x.T_WI.p + R_WK * pos->p[k];
+    r.window_poses.push_back(pose);
+  }
   return r;
 }
 

@@ -22,6 +22,7 @@ void Pipeline::init_from_sensors(const ImuInput& in) {
     if (!dynamic_init_) continue;
     f.t_ns = imu_clock(f.t_ns);
     if (std::optional<InitResult> r = dynamic_init_->add_frame(f)) {
+      if (on_init_window_) on_init_window_(r->window_poses);
       initialize(r->t_ns, r->x, r->P);
       record_init(r->t_ns, "in_flight");
       // The state is at the frame's time: propagate to this sample (its rates held over the

@@ -9,6 +9,7 @@
 #include <deque>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "vio_core/estimator_params.h"
 #include "vio_core/measurements.h"
@@ -21,6 +22,10 @@ struct InitResult {
   TimeNs t_ns = 0;
   ImuState x;
   Eigen::MatrixXd P;  ///< imu_dim x imu_dim
+  /// In-flight initialization: the poses of the window's earlier frames in the new world frame
+  /// (oldest first; from the frame positions and gyro rotations of the alignment), so that a
+  /// re-initialized run's trajectory has no gap over the window. Empty otherwise.
+  std::vector<TimedPose> window_poses;
 };
 
 /// @brief Diagonal initial covariance from the params' init sigmas (orientation split into

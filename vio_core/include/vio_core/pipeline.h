@@ -176,6 +176,11 @@ class Pipeline {
   /// after its time (the rest at finish()). Fields as the causal estimate's; x.F_ext, T_WI,
   /// F_ext_I/W and cov_F_I/W carry the smoothed values.
   void set_smoothed_callback(std::function<void(const EstimateOutput&)> cb) { on_smoothed_ = std::move(cb); }
+  /// @brief At an in-flight initialization, before its first estimate: the window's earlier
+  /// frame poses in the new world frame (InitResult::window_poses).
+  void set_init_window_callback(std::function<void(const std::vector<TimedPose>&)> cb) {
+    on_init_window_ = std::move(cb);
+  }
 
   /// @brief Feed the next measurement (non-decreasing time). Ground truth, force, mass and
   /// image measurements are ignored (ground truth is used only by InitMode::kGroundTruth).
@@ -282,6 +287,7 @@ class Pipeline {
   std::function<void(const FrameTimings&)> on_frame_;
   std::unique_ptr<FixedLagOutput> lagged_;  ///< smoothed outputs (smoother_lag_s > 0)
   std::function<void(const EstimateOutput&)> on_smoothed_;
+  std::function<void(const std::vector<TimedPose>&)> on_init_window_;
 };
 
 }  // namespace vid
