@@ -94,6 +94,15 @@ RunOutputs::RunOutputs(const std::filesystem::path& out_dir, bool write_force, s
   }
 }
 
+std::string tum_reinit_marker(TimeNs t_ns) {
+  return fmt::format("{} {}.{:09d}: a new world frame from here on", kTumReinitMarker, t_ns / 1000000000,
+                     t_ns % 1000000000);
+}
+
+void RunOutputs::mark_reinitialization(TimeNs t_ns) { tum_.line(tum_reinit_marker(t_ns)); }
+
+void RunOutputs::write_pose(const TimedPose& pose) { tum_.line(tum_line(pose)); }
+
 std::string tum_line(const TimedPose& x) {
   const Eigen::Quaterniond q = x.T.q.normalized();
   // Seconds with 9 decimals from integer ns, so no precision is lost.
@@ -150,6 +159,8 @@ void SmoothedOutputs::write_estimate(const EstimateRow& r) {
   tum_.line(tum_line({r.t_ns, r.T_WI}));
   force_.line(force_csv_line(r));
 }
+
+void SmoothedOutputs::mark_reinitialization(TimeNs t_ns) { tum_.line(tum_reinit_marker(t_ns)); }
 
 void SmoothedOutputs::close() {
   tum_.close();

@@ -99,6 +99,7 @@ void System::build_estimator() {
   pipeline_->set_estimate_callback([this](const EstimateOutput& e) { estimate_out(e); });
   pipeline_->set_frame_callback([this](const FrameTimings& ft) { frame_out(ft); });
   pipeline_->set_smoothed_callback([this](const EstimateOutput& e) { smoothed_out(e); });
+  pipeline_->set_init_window_callback([this](const std::vector<TimedPose>& w) { init_window_out(w); });
   if (p_.features != FeatureSource::kFeat0)
     frontend_ = std::make_unique<FrontendStage>(p_.config.frontend, p_.config.cameras);
   last_status_ = pipeline_->status();
@@ -108,6 +109,7 @@ void System::restart() {
   add_counters(past_counters_, pipeline_->counters());
   tracking_ms_.clear();
   ++restarts_;
+  mark_next_estimate_ = mark_next_smoothed_ = true;  // the new piece's first estimates
   build_estimator();
 }
 
@@ -255,6 +257,8 @@ void System::report_status() {
 
 void System::estimate_out(const EstimateOutput& e) {
   const EstimateRow row = to_row(e);
+  if (mark_next_estimate_) start_piece(row.t_ns);
+  last_estimate_t_ = row.t_ns;
   if (outputs_) outputs_->write_estimate(row);
   ++estimates_;
   // Kept for the summary's ATE / force RMSE only when there is ground truth to score against
@@ -273,8 +277,33 @@ void System::estimate_out(const EstimateOutput& e) {
   if (on_estimate_) on_estimate_(e);
 }
 
+void System::start_piece(TimeNs t_ns) {
+  mark_next_estimate_ = false;
+  piece_starts_.push_back(t_ns);
+  if (outputs_) outputs_->mark_reinitialization(t_ns);
+}
+
+// After a re-initialization in flight the trajectory goes on over the initializer's window (a
+// first initialization starts where the filter does, as with a still window).
+void System::init_window_out(const std::vector<TimedPose>& poses) {
+  std::vector<TimedPose> after;  // the trajectory stays in time order
+  for (const TimedPose& x : poses)
+    if (x.t_ns > last_estimate_t_) after.push_back(x);
+  if (!mark_next_estimate_ || after.empty()) return;
+  start_piece(after.front().t_ns);
+  for (const TimedPose& x : after) {
+    if (outputs_) outputs_->write_pose(x);
+    if (!gt_p_.t_ns.empty()) {  // scored with the piece, as estimate_out's
+      est_p_.t_ns.push_back(x.t_ns);
+      est_p_.v.push_back(x.T.p);
+    }
+  }
+}
+
 void System::smoothed_out(const EstimateOutput& e) {
   const EstimateRow row = to_row(e);
+  if (smoothed_outputs_ && mark_next_smoothed_) smoothed_outputs_->mark_reinitialization(row.t_ns);
+  mark_next_smoothed_ = false;
   if (smoothed_outputs_) smoothed_outputs_->write_estimate(row);
   if (!gt_p_.t_ns.empty() || !gt_f_W_.t_ns.empty()) {  // as estimate_out
     est_p_smoothed_.t_ns.push_back(row.t_ns);

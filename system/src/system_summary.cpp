@@ -161,9 +161,12 @@ void System::score(nlohmann::json& s, const Vec3Series& est_p, const Vec3Series&
                    const std::string& sfx) const {
   // After a re-initialization the estimator has a new world frame: each piece between two
   // initializations is aligned on its own (README "Recovery from divergence").
+  // A piece after a re-initialization starts with its first output (the in-flight initializer's
+  // window, when it wrote one), the first piece at the first initialization.
   std::vector<TimeNs> starts;
-  for (const InitRecord& r : counters().inits) starts.push_back(r.t_ns);
-  std::sort(starts.begin(), starts.end());
+  const PipelineCounters c = counters();
+  if (!c.inits.empty()) starts.push_back(c.inits.front().t_ns);
+  starts.insert(starts.end(), piece_starts_.begin(), piece_starts_.end());
   std::optional<SegmentedAte> seg;
   if (!gt_p_.t_ns.empty()) seg = ate_posyaw_segments(est_p, gt_p_, starts);
   std::optional<AteResult> ate;

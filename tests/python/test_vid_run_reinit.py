@@ -8,10 +8,15 @@ a few seconds later. By default vid_run re-initializes from the data, in flight,
 re-initialization (diverging again within 10 s) stops the run too (the persistent cases are in
 test_vid_run_robustness.py and test_vid_run_health.py).
 """
+import json
+from decimal import Decimal
+import subprocess
+
 import numpy as np
 import pytest
 
-from test_vid_run_helpers import REPO, link_copy, replace_file, simulate_cached, summary, tum_rows, vid_run
+from test_vid_run_helpers import (REPO, VENV_BIN, link_copy, replace_file, simulate_cached, summary, tum_rows,
+                                  vid_run)
 
 CONFIG = REPO / "config" / "sim"
 BURST_S = (15.0, 17.0)
@@ -74,13 +79,61 @@ def test_divergence_is_followed_by_an_in_flight_reinitialization(burst, recovere
     after = t[t * 1e9 >= events[1]["t_ns"] - 1e6]
     assert after[0] * 1e9 - events[1]["t_ns"] < 0.05e9 and after[-1] - after[0] > 9.0
     assert np.max(np.diff(after)) < 0.05
+    # Gap-free: the in-flight initializer's window fills the time between the divergence and
+    # the new state (its frame poses; before, a ~1 s hole), in time order.
+    assert np.all(np.diff(t) > 0)
+    gaps = np.diff(t)
+    print(f"largest gap {gaps.max():.3f} s at {t[np.argmax(gaps)] - t[0]:.2f} s")
+    assert gaps.max() < 0.15, gaps.max()
+
+
+def test_the_trajectory_marks_the_new_world_frame(recovered):
+    _, out, s = recovered
+    lines = (out / "trajectory_tum.txt").read_text().splitlines()
+    marks = [i for i, ln in enumerate(lines) if ln.startswith("# re-initialized at ")]
+    assert len(marks) == 1, marks
+    # the marker's time is the first pose of the second piece (the window's oldest frame) ...
+    t_mark = lines[marks[0]].split()[3].rstrip(":")
+    assert t_mark == lines[marks[0] + 1].split()[0]
+    piece = s["ate_segments"][1]
+    assert int(Decimal(t_mark) * 10**9) == piece["t_start_ns"]  # exact: 9 decimals
+    assert piece["t_start_ns"] < s["initializations"]["events"][1]["t_ns"]
+    # ... and the marker is the only comment after the header: no other file changes
+    assert sum(ln.startswith("#") for ln in lines) == 2
+    assert not any(ln.startswith("# re-init") for ln in (out / "state.csv").read_text().splitlines())
+
+
+def test_vid_eval_scores_each_piece_as_vid_run(clean, recovered, tmp_path):
+    _, out, s = recovered
+    gt = clean / "mav0" / "state_groundtruth_estimate0" / "data.csv"
+
+    def traj(*extra):
+        r = subprocess.run([str(VENV_BIN / "vid-eval"), "traj", str(out / "trajectory_tum.txt"), str(gt),
+                            "--json", str(tmp_path / "ate.json"), *extra], capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        return r.stdout, json.loads((tmp_path / "ate.json").read_text())
+
+    text, j = traj()
+    pieces = j["ate_pieces"]["pieces"]
+    assert [p["t_start_ns"] for p in pieces][1] == s["ate_segments"][1]["t_start_ns"]
+    for mine, theirs in zip(pieces, s["ate_segments"]):
+        assert mine["pos_rmse_m"] == pytest.approx(theirs["ate_posyaw_m"], rel=0.02), (mine, theirs)
+    # Pooled over every pair of every piece (vid-eval pairs one-to-one with the ground truth,
+    # vid_run each estimate with its nearest truth: the pair counts, so the weights, differ).
+    pooled = np.sqrt(sum(p["pos_rmse_m"] ** 2 * p["pairs"] for p in pieces) / sum(p["pairs"] for p in pieces))
+    assert j["ate_pos_rmse_m"] == pytest.approx(pooled, rel=1e-9)
+    assert text.count("aligned on its own") == 2
+    # One alignment over both frames scores the frame change, not the estimator.
+    _, one = traj("--one-alignment")
+    assert "ate_pieces" not in one and one["ate_pos_rmse_m"] > j["ate_pos_rmse_m"]
 
 
 def test_each_piece_is_scored_in_its_own_world_frame(recovered, undisturbed):
     _, _, s = recovered
     pieces = s["ate_segments"]
     assert len(pieces) == 2
-    assert pieces[1]["t_start_ns"] == s["initializations"]["events"][1]["t_ns"]
+    # the second piece starts with the in-flight initializer's window, after the divergence
+    assert s["divergences"][0]["t_ns"] < pieces[1]["t_start_ns"] <= s["initializations"]["events"][1]["t_ns"]
     assert sum(p["pairs"] for p in pieces) == s["ate_pairs"]
     pooled = np.sqrt(sum(p["ate_posyaw_m"] ** 2 * p["pairs"] for p in pieces) / s["ate_pairs"])
     assert s["ate_posyaw_m"] == pytest.approx(pooled, rel=1e-12)

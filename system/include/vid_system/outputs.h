@@ -33,6 +33,11 @@ struct EstimateRow {
 /// @brief One line of trajectory_tum.txt: "t tx ty tz qx qy qz qw", t in seconds with 9
 /// decimals (exact for integer ns), the quaternion normalized.
 std::string tum_line(const TimedPose& x);
+/// @brief Start of the comment line that marks a re-initialization in a TUM trajectory
+/// ("# re-initialized at <t s>: ..."); vid-eval scores each piece in its own frame.
+inline constexpr const char* kTumReinitMarker = "# re-initialized at";
+/// @brief The whole marker line for a re-initialization whose first estimate is at @p t_ns.
+std::string tum_reinit_marker(TimeNs t_ns);
 
 /// @brief Per camera frame stage times [ms].
 struct TimingRow {
@@ -73,7 +78,13 @@ class RunOutputs {
   RunOutputs(const std::filesystem::path& out_dir, bool write_force, std::optional<double> mass_kg = std::nullopt,
              bool time_offset = false);
   void write_estimate(const EstimateRow& row);
+  /// @brief A pose without a filter state (trajectory_tum.txt only): the in-flight
+  /// initializer's window after a re-initialization.
+  void write_pose(const TimedPose& pose);
   void write_timing(const TimingRow& row);
+  /// @brief A comment line in trajectory_tum.txt before the first estimate after a
+  /// re-initialization (README "Recovery from divergence"): from @p t_ns on, a new world frame.
+  void mark_reinitialization(TimeNs t_ns);
   void close();
 
  private:
@@ -90,6 +101,8 @@ class SmoothedOutputs {
  public:
   explicit SmoothedOutputs(const std::filesystem::path& out_dir);
   void write_estimate(const EstimateRow& row);
+  /// @brief As RunOutputs::mark_reinitialization, in trajectory_smoothed_tum.txt.
+  void mark_reinitialization(TimeNs t_ns);
   void close();
 
  private:

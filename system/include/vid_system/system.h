@@ -6,6 +6,7 @@
 /// accuracy tests from simulator folders. The data flow reads top to bottom in system.cpp.
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -137,6 +138,8 @@ class System {
   void report_status();
   void track(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right);
   void estimate_out(const EstimateOutput& e);
+  void init_window_out(const std::vector<TimedPose>& poses);
+  void start_piece(TimeNs t_ns);
   void smoothed_out(const EstimateOutput& e);
   /// ATE and force RMSE of one estimate series into summary @p s, keys suffixed @p sfx.
   void score(nlohmann::json& s, const Vec3Series& est_p, const Vec3Series& est_f_W, const Vec3Series& est_f_I,
@@ -163,6 +166,9 @@ class System {
   long estimates_ = 0, frames_ = 0, feature_frames_ = 0;
   FrameFaults faults_;
   int restarts_ = 0;
+  bool mark_next_estimate_ = false, mark_next_smoothed_ = false;  ///< after a restart (outputs' marker)
+  TimeNs last_estimate_t_ = INT64_MIN;
+  std::vector<TimeNs> piece_starts_;  ///< first time of each piece after a re-initialization
   bool was_starving_ = false;    ///< the pipeline's starvation flag at the previous frame
   int starvation_warnings_ = 0;  ///< episodes warned about (the first 10)
   StageStats decode_ms_, tracking_cpu_ms_;
