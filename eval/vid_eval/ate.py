@@ -74,6 +74,53 @@ def compute_ate(est: Trajectory, gt: Trajectory, mode: str = "posyaw",
     return ate_of_paired(pe, pg, mode, n_align)
 
 
+@dataclass
+class PiecewiseAte:
+    """ATE of a trajectory whose world frame restarts at re-initializations: each piece aligned on
+    its own (as vid_run's summary.json ``ate_segments``), pooled over all pairs."""
+
+    pooled: AteResult  # every piece's aligned poses and errors; .alignment is the first piece's
+    pieces: list  # AteResult per piece with pairs
+    starts_ns: list  # start of each of those pieces (the first: its first pair)
+    empty_pieces: int  # pieces with fewer than 2 pairs (not aligned, not scored)
+
+    def as_dict(self) -> dict:
+        """JSON-friendly per-piece summary."""
+        return {"pieces": [{"t_start_ns": int(t), "pairs": int(len(a.pos_err)), "pos_rmse_m": a.pos_rmse,
+                            "rot_rmse_deg": a.rot_rmse_deg, "alignment": a.alignment.as_dict()}
+                           for t, a in zip(self.starts_ns, self.pieces)],
+                "pieces_without_pairs": self.empty_pieces}
+
+
+def compute_ate_pieces(est: Trajectory, gt: Trajectory, starts_ns, mode: str = "posyaw",
+                       n_align: Optional[int] = None,
+                       pairing: Optional[PairingOptions] = None) -> PiecewiseAte:
+    """:func:`compute_ate` per piece between re-initializations (``starts_ns``: the new world
+    frames' first times, :func:`vid_eval.loaders.reinit_marks`); anything before the first start
+    belongs to the first piece."""
+    pe, pg = pair_trajectories(est, gt, pairing or PairingOptions())
+    cuts = np.searchsorted(pe.t_ns, np.sort(np.asarray(starts_ns, dtype=np.int64)))
+    bounds = [0, *[int(c) for c in cuts if 0 < c < len(pe)], len(pe)]
+    pieces, starts, empty = [], [], 0
+    for i0, i1 in zip(bounds[:-1], bounds[1:]):
+        if i1 - i0 < 2:
+            empty += 1
+            continue
+        idx = np.arange(i0, i1)
+        pieces.append(ate_of_paired(pe.subset(idx), pg.subset(idx), mode, n_align))
+        starts.append(int(pe.t_ns[i0]))
+    if not pieces:
+        raise ValueError("no piece of the trajectory has two poses paired with the ground truth")
+    cat = lambda f: np.concatenate([f(a) for a in pieces])  # noqa: E731
+    est_al = Trajectory(cat(lambda a: a.est_aligned.t_ns), cat(lambda a: a.est_aligned.p),
+                        cat(lambda a: a.est_aligned.q), est.source, est.time_unit)
+    gt_al = Trajectory(cat(lambda a: a.gt.t_ns), cat(lambda a: a.gt.p), cat(lambda a: a.gt.q), gt.source,
+                       gt.time_unit)
+    rot = None if pieces[0].rot_err_deg is None else cat(lambda a: a.rot_err_deg)
+    pooled = AteResult(pieces[0].alignment, est_al, gt_al, cat(lambda a: a.pos_err), rot)
+    return PiecewiseAte(pooled, pieces, starts, empty)
+
+
 def ate_posyaw(est_t: np.ndarray, est_p: np.ndarray, gt_t: np.ndarray, gt_p: np.ndarray,
                est_q: Optional[np.ndarray] = None, gt_q: Optional[np.ndarray] = None, *,
                max_diff_ns: int = 10_000_000, offset_ns: int = 0,

@@ -16,7 +16,7 @@ import yaml
 from . import formats
 from .errors import InputFormatError, PathLike
 from .series import NeesCurves, ScalarSeries, StateSeries, Trajectory, VectorSeries
-from .table_reader import Table, not_utf8, read_table
+from .table_reader import Table, not_utf8, parse_time, read_table
 
 TRAJ_FORMATS = ("tum", "euroc", "state")
 
@@ -37,6 +37,24 @@ def load_tum(path: PathLike) -> Trajectory:
     v = tab.values
     q = _quaternions(tab, v[:, [6, 3, 4, 5]])
     return Trajectory(tab.t_ns, v[:, 0:3].copy(), q, tab.path, time_unit="s")
+
+
+#: vid_run's marker of a re-initialization in a TUM trajectory (system/include/vid_system/outputs.h,
+#: kTumReinitMarker): "# re-initialized at <t [s]>: a new world frame from here on".
+REINIT_MARKER = "# re-initialized at"
+
+
+def reinit_marks(path: PathLike) -> np.ndarray:
+    """Times [ns] of the re-initialization markers in a trajectory file (README "Recovery from
+    divergence"): from each on, the estimate is in a new world frame. Empty for other files."""
+    spath = os.fspath(path)
+    marks: List[int] = []
+    with open(spath, "r", encoding="utf-8", errors="replace") as handle:
+        for lineno, raw in enumerate(handle, start=1):
+            if raw.startswith(REINIT_MARKER):
+                token = raw[len(REINIT_MARKER):].split(":")[0].strip()
+                marks.append(parse_time(token, True, spath, lineno, "re-initialization marker"))
+    return np.asarray(marks, dtype=np.int64)
 
 
 def load_euroc_pose_csv(path: PathLike) -> Trajectory:

@@ -31,7 +31,7 @@ class Table:
     lines: np.ndarray  # (N,) 1-based line numbers of the rows in the file
 
 
-def _parse_time(token: str, unit_seconds: bool, path: str, line: int, column: str) -> int:
+def parse_time(token: str, unit_seconds: bool, path: str, line: int, column: str) -> int:
     """Parse a timestamp to int ns exactly (Decimal avoids float rounding of seconds)."""
     try:
         value = Decimal(token)
@@ -130,7 +130,7 @@ def _read_rows(handle, spath: str, allowed: set, delimiter: Optional[str], time_
                 lineno,
             )
         column = lambda i: _column(i, header, len(tokens))  # noqa: E731
-        t = _parse_time(tokens[0], time_in_seconds, spath, lineno, column(0))
+        t = parse_time(tokens[0], time_in_seconds, spath, lineno, column(0))
         try:
             vals = [float(x) for x in tokens[1:]]
         except ValueError:

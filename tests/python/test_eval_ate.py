@@ -171,3 +171,51 @@ def test_ate_posyaw_associates_with_tolerance_and_offset():
                      offset_ns=2_000_000_000)
     assert len(res.pos_err) == len(t_ns)
     assert res.pos_rmse < 1e-9
+
+
+def test_pieces_after_a_reinitialization_are_aligned_on_their_own(tmp_path):
+    """A vid_run trajectory re-initialized at 12 s: the second piece is in a new world frame
+    (yaw 1 rad, shifted 5 m); with the marker line each piece is aligned on its own and the
+    noise-free estimate scores zero, one alignment scores the frame change."""
+    t = 1_403_636_000.0 + np.arange(0, 20.0, 0.01)
+    p, rot = smooth_trajectory(t - t[0], seed=4)
+    gt = write_euroc_gt(tmp_path / "gt.csv", np.round(t * 1e9).astype(np.int64), p, rot)
+    k = np.searchsorted(t, t[0] + 12.0)
+    frame = Rotation.from_rotvec([0, 0, 1.0])
+    p_est, rot_est = p.copy(), rot
+    p_est[k:] = frame.apply(p[k:]) + [5.0, -2.0, 0.3]
+    rot_est = Rotation.concatenate([rot[:k], frame * rot[k:]])
+    est = write_tum(tmp_path / "est.txt", t, p_est, rot_est)
+    lines = est.read_text().splitlines()
+    lines.insert(1 + k, f"# re-initialized at {t[k]:.9f}: a new world frame from here on")
+    est.write_text("\n".join(lines) + "\n")
+    from vid_eval.ate import compute_ate_pieces
+    from vid_eval.loaders import reinit_marks
+    marks = reinit_marks(est)
+    assert marks.tolist() == [int(round(t[k] * 1e9))]
+    res = compute_ate_pieces(load_trajectory(est), load_trajectory(gt), marks)
+    assert [len(a.pos_err) for a in res.pieces] == [k, len(t) - k]
+    assert res.pooled.pos_rmse < 1e-6 and res.pooled.rot_rmse_deg < 1e-4
+    assert res.pieces[1].alignment.as_dict() != res.pieces[0].alignment.as_dict()
+    assert compute_ate(load_trajectory(est), load_trajectory(gt)).pos_rmse > 1.0
+    # the command line: per piece by default, --one-alignment on request
+    out = subprocess.run([sys.executable, "-m", "vid_eval.cli", "traj", str(est), str(gt), "--json",
+                          str(tmp_path / "a.json")], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    j = json.loads((tmp_path / "a.json").read_text())
+    assert j["ate_pos_rmse_m"] < 1e-6 and len(j["ate_pieces"]["pieces"]) == 2
+    assert j["ate_pieces"]["pieces"][1]["t_start_ns"] == marks[0]
+    out = subprocess.run([sys.executable, "-m", "vid_eval.cli", "traj", str(est), str(gt), "--one-alignment",
+                          "--json", str(tmp_path / "b.json")], capture_output=True, text=True)
+    assert json.loads((tmp_path / "b.json").read_text())["ate_pos_rmse_m"] > 1.0
+
+
+def test_a_bad_reinitialization_marker_names_its_line(tmp_path):
+    t = 1_403_636_000.0 + np.arange(0, 2.0, 0.01)
+    p, rot = smooth_trajectory(t - t[0], seed=1)
+    est = write_tum(tmp_path / "est.txt", t, p, rot)
+    est.write_text(est.read_text() + "# re-initialized at soon: a new world frame from here on\n")
+    from vid_eval.errors import InputFormatError
+    from vid_eval.loaders import reinit_marks
+    with pytest.raises(InputFormatError, match=r"est.txt.*202|line 202"):
+        reinit_marks(est)

@@ -4,8 +4,8 @@ from __future__ import annotations
 import argparse
 
 from ..alignment import ALIGN_MODES
-from ..ate import compute_ate
-from ..loaders import TRAJ_FORMATS, load_trajectory
+from ..ate import compute_ate, compute_ate_pieces
+from ..loaders import TRAJ_FORMATS, load_trajectory, reinit_marks
 from ..phase_metrics import pose_phase_lines, pose_phase_report
 from ..rpe import DEFAULT_PERCENTAGES, compute_rpe, default_distances, rpe_as_dict
 from .common import (abspath, add_output_args, add_pairing_args, add_phase_args, finish,
@@ -38,6 +38,9 @@ def add_parser(sub) -> None:
                    help="format of EST (default: detect; tum = 'ts tx ty tz qx qy qz qw' in s, "
                         "euroc = ns CSV with p, q(w,x,y,z), state = our state.csv)")
     p.add_argument("--gt-format", choices=TRAJ_FORMATS, default=None, help="format of GT (default: detect)")
+    p.add_argument("--one-alignment", action="store_true",
+                   help="align the whole estimate at once even where vid_run marked a "
+                        "re-initialization (default: each piece in its own frame)")
     p.add_argument("--rpe-distances", type=_distances, default=None, metavar="D1,D2,...",
                    help="RPE sub-trajectory lengths [m] (default 10,20,30,40,50%% of the GT length)")
     add_pairing_args(p)
@@ -52,7 +55,16 @@ def run(args: argparse.Namespace) -> int:
     est = load_trajectory(args.est, args.est_format)
     gt = load_trajectory(args.gt, args.gt_format)
     phases = phases_from_args(args, args.gt)
-    res = compute_ate(est, gt, args.align, args.align_frames, pairing_from_args(args, min_pairs=3))
+    # After a re-initialization vid_run's estimate is in a new world frame (its marker lines):
+    # one alignment for the whole file would score the frame change, not the estimator.
+    marks = [] if args.one_alignment else reinit_marks(args.est)
+    pieces = None
+    if len(marks):
+        pieces = compute_ate_pieces(est, gt, marks, args.align, args.align_frames,
+                                    pairing_from_args(args, min_pairs=3))
+        res = pieces.pooled
+    else:
+        res = compute_ate(est, gt, args.align, args.align_frames, pairing_from_args(args, min_pairs=3))
     pct = None
     if args.rpe_distances is None:
         pct = list(DEFAULT_PERCENTAGES)
@@ -70,6 +82,11 @@ def run(args: argparse.Namespace) -> int:
         "rpe": rpe_as_dict(segments, pct),
         "gt_path_length_m": res.gt.path_length(),
     }
+    if pieces is not None:
+        out["ate_pieces"] = pieces.as_dict()
+        for t, a in zip(pieces.starts_ns, pieces.pieces):
+            print(f"piece from {t * 1e-9:.3f} s: {len(a.pos_err)} pairs, ATE pos RMSE {a.pos_rmse:.4f} m "
+                  f"(aligned on its own: vid_run re-initialized)")
     print(f"pairs {len(res.pos_err)}  align {args.align}  ATE pos RMSE {res.pos_rmse:.4f} m  "
           f"rot RMSE {res.rot_rmse_deg:.3f} deg")
     for s in segments:
