@@ -256,6 +256,7 @@ void LiveEngine::process(WorkItem& w) {
     spdlog::error("estimator diverged at {} ns ({}); re-initializing", t, session_->status_message());
     health_ = Health::kDiverged;
     publish_status_locked(t);
+    divergences_.push_back({{"t_ns", t}, {"message", session_->status_message()}});
     session_->restart();
     ++reinit_count_;
     frame_arrival_.clear();
@@ -414,6 +415,7 @@ nlohmann::json LiveEngine::summary() const {
   for (const auto& [name, value] : counters()) faults[name] = value;
   s["faults"] = faults;
   s["reinit_count"] = reinit_count_;
+  if (!divergences_.empty()) s["divergences"] = divergences_;
   s["latency_image_to_state_ms"] = latency_ms_.to_json();
   s["live"] = {{"reorder_window_ms", static_cast<double>(opt_.reorder_window_ns) * 1e-6},
                {"max_queued_frames", opt_.max_queued_frames},

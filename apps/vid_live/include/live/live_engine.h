@@ -125,6 +125,7 @@ class LiveEngine {
   // Worker-thread state (read by summary()/health() under mutex_).
   Health health_ = Health::kInitializing;
   int reinit_count_ = 0;
+  nlohmann::json divergences_ = nlohmann::json::array();  // {t_ns, message} each, as vid_run's
   long published_ = 0;
   long published_lagged_ = 0;
   bool stalled_ = false;
