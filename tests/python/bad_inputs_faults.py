@@ -1,6 +1,7 @@
 """Bad-input table, part 3 (issue #52, "silent faults"): inputs that used to run with status ok -
 an IMU rate that disagrees with the imu0 stamps, negative thrust, an IMU extrinsic that would be
-ignored, a garbage block inside an LCM log. Cases as in bad_inputs_data.py; no tests here."""
+ignored, a garbage block inside an LCM log, camera data that does not travel over LCM (feat0/). Cases
+as in bad_inputs_data.py; no tests here."""
 from __future__ import annotations
 
 from bad_inputs_data import Case, dataset, rows_of, vid_run, write_rows
@@ -156,7 +157,15 @@ def _overwrite_middle(data: bytes, n: int = 1000) -> bytes:
     raise ValueError("no stretch of small events in the log")
 
 
+# --- Camera data that does not travel over LCM (vid_replay) --------------------------------------
+def replay_feat_cases() -> list:
+    base = ["--dataset", "{feat}", "--lcm-url", "memq://", "--fast", "--quiet"]
+    return [cli_case("vid_replay", base, "{feat}", exit=1, kind="camera"),
+            cli_case("vid_replay", [*base, "--no-camera"], "--no-camera", exit=0, kind="camera")]
+
+
 def all_cases() -> list:
     return (rate_cases() + thrust_cases() + [imu_extrinsic_case()] + replay_url_cases()
             + [log_case("1000 bytes overwritten in the middle", _overwrite_middle, exit=0),
-               log_case("1000 bytes overwritten in the middle", _overwrite_middle, "--strict")])
+               log_case("1000 bytes overwritten in the middle", _overwrite_middle, "--strict")]
+            + replay_feat_cases())

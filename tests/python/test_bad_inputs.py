@@ -30,13 +30,13 @@ assert len(set(LABELS)) == len(LABELS), "case labels must be unique"
 @pytest.fixture(scope="module")
 def ctx(tmp_path_factory):
     """Tiny inputs: 3 s of vid17_like_short (features only, and rendered), LCM logs (of the
-    features-only folder: IMU and rotors; of 1.5 s of the rendered one), a bag."""
+    features-only folder with --no-camera: IMU and rotors; of 1.5 s of the rendered one), a bag."""
     root = tmp_path_factory.mktemp("bad_inputs")
     c = types.SimpleNamespace(feat=simulate_cached("vid17_like_short.yaml", 3.0, 1, features_only=True),
                               img=simulate_cached("vid17_like_short.yaml", 3.0, 1, features_only=False),
                               log=root / "feat.log", img_log=root / "img.log", bag=small_bag(root / "ok.bag", n=60),
                               root=root)
-    for seq, log, extra in ((c.feat, c.log, []), (c.img, c.img_log, ["--end", "1.5"])):
+    for seq, log, extra in ((c.feat, c.log, ["--no-camera"]), (c.img, c.img_log, ["--end", "1.5"])):
         subprocess.run([str(program("vid_replay")), "--dataset", str(seq), "--lcm-url", "memq://", "--fast", "--quiet",
                         "--log", str(log), *extra], check=True, capture_output=True, timeout=120)
     return c

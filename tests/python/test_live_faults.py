@@ -1,4 +1,5 @@
-"""Silent faults of the live path (issue #52): an LCM log with unreadable bytes in the middle.
+"""Silent faults of the live path (issue #52): an LCM log with unreadable bytes in the middle,
+a feature-level folder given to vid_replay.
 
 The log is vid_replay's of 2 s of a rendered sequence; damage is written over whole events so
 that what LCM loses is known exactly from the clean log.
@@ -103,3 +104,19 @@ def test_clean_log_has_no_damage(seq, clean, tmp_path):
     assert r.returncode == 0 and r.stderr == "", r.stderr
     info = summary(tmp_path / "out")["input"]["lcm_log"]
     assert info["damaged_spans"] == [] and info["events_lost"] == 0
+
+
+def test_replay_refuses_a_feature_level_folder(tmp_path):
+    feat = simulate_cached("vid17_like_short.yaml", 3.0, 1, features_only=True)
+    base = [program("vid_replay"), "--dataset", feat, "--lcm-url", "memq://", "--fast", "--quiet",
+            "--log", tmp_path / "f.log", "--report", tmp_path / "r.json"]
+    r = run(base)
+    lines = r.stderr.splitlines()
+    assert r.returncode == 1 and len(lines) == 1, r.stderr
+    assert str(feat) in lines[0] and "feat0" in lines[0] and "vid_run" in lines[0] and "--no-camera" in lines[0]
+    assert not (tmp_path / "r.json").exists()
+    r = run(base + ["--no-camera"])
+    lines = r.stderr.splitlines()
+    assert r.returncode == 0 and len(lines) == 1 and ": warning:" in lines[0] and "feat0" in lines[0], r.stderr
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert set(report["published"]) == {"IMU", "ROTORS"} and report["camera_published"] is False
