@@ -1,7 +1,7 @@
 """Bad-input table, part 3 (issue #52, "silent faults"): inputs that used to run with status ok -
 an IMU rate that disagrees with the imu0 stamps, negative thrust, an IMU extrinsic that would be
-ignored, a garbage block inside an LCM log, camera data that does not travel over LCM (feat0/). Cases
-as in bad_inputs_data.py; no tests here."""
+ignored, a garbage block inside an LCM log, camera data that does not travel over LCM (feat0/) or never
+comes. Cases as in bad_inputs_data.py; no tests here."""
 from __future__ import annotations
 
 from bad_inputs_data import Case, dataset, rows_of, vid_run, write_rows
@@ -157,15 +157,23 @@ def _overwrite_middle(data: bytes, n: int = 1000) -> bytes:
     raise ValueError("no stretch of small events in the log")
 
 
-# --- Camera data that does not travel over LCM (vid_replay) --------------------------------------
+# --- Camera data that does not travel (vid_replay) or never comes (vid_live) --------------------
 def replay_feat_cases() -> list:
     base = ["--dataset", "{feat}", "--lcm-url", "memq://", "--fast", "--quiet"]
     return [cli_case("vid_replay", base, "{feat}", exit=1, kind="camera"),
             cli_case("vid_replay", [*base, "--no-camera"], "--no-camera", exit=0, kind="camera")]
 
 
+def no_camera_case() -> Case:
+    """vid_live on 3 s of IMU and rotors without one camera frame (the feature-level folder
+    replayed with --no-camera): a fault, exit 5."""
+    def make(ctx, d):
+        return vid_live(ctx, f"file://{ctx.log}?speed=0"), "CAM0"
+    return Case("camera", "vid_live: log with IMU and rotors, no camera frame", make, exit=5)
+
+
 def all_cases() -> list:
     return (rate_cases() + thrust_cases() + [imu_extrinsic_case()] + replay_url_cases()
             + [log_case("1000 bytes overwritten in the middle", _overwrite_middle, exit=0),
                log_case("1000 bytes overwritten in the middle", _overwrite_middle, "--strict")]
-            + replay_feat_cases())
+            + replay_feat_cases() + [no_camera_case()])

@@ -30,7 +30,7 @@ assert len(set(LABELS)) == len(LABELS), "case labels must be unique"
 @pytest.fixture(scope="module")
 def ctx(tmp_path_factory):
     """Tiny inputs: 3 s of vid17_like_short (features only, and rendered), LCM logs (of the
-    features-only folder with --no-camera: IMU and rotors; of 1.5 s of the rendered one), a bag."""
+    features-only folder: IMU and rotors, no camera; of 1.5 s of the rendered one), a bag."""
     root = tmp_path_factory.mktemp("bad_inputs")
     c = types.SimpleNamespace(feat=simulate_cached("vid17_like_short.yaml", 3.0, 1, features_only=True),
                               img=simulate_cached("vid17_like_short.yaml", 3.0, 1, features_only=False),
@@ -106,4 +106,4 @@ def test_table(results, ctx):
         "tests/python/test_bad_inputs.py` (issues #26, #28, #52). DIR: the case's folder, SEQ: a 3 s simulated "
         "sequence, TMP: the test's scratch folder, REPO: the repository. Exit 2: usage error, 1: bad data, "
         "0: a tolerated fault (a skipped camera frame, a gap under --allow-gaps, unreadable bytes inside an "
-        "LCM log: warned, counted in summary.json).\n\n" + "\n".join(rows) + "\n")
+        "LCM log: warned, counted in summary.json); vid_live exit 5: no camera frame at all.\n\n" + "\n".join(rows) + "\n")

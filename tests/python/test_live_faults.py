@@ -1,5 +1,5 @@
 """Silent faults of the live path (issue #52): an LCM log with unreadable bytes in the middle,
-a feature-level folder given to vid_replay.
+a feature-level folder given to vid_replay, a camera that never delivers.
 
 The log is vid_replay's of 2 s of a rendered sequence; damage is written over whole events so
 that what LCM loses is known exactly from the clean log.
@@ -120,3 +120,58 @@ def test_replay_refuses_a_feature_level_folder(tmp_path):
     assert r.returncode == 0 and len(lines) == 1 and ": warning:" in lines[0] and "feat0" in lines[0], r.stderr
     report = json.loads((tmp_path / "r.json").read_text())
     assert set(report["published"]) == {"IMU", "ROTORS"} and report["camera_published"] is False
+
+
+def no_camera_log(seq, path, *extra):
+    r = run([program("vid_replay"), "--dataset", seq, "--lcm-url", "memq://", "--fast", "--log", path, "--quiet",
+             *extra])
+    assert r.returncode == 0, r.stderr
+    return path
+
+
+def test_a_camera_that_never_delivers_is_a_fault(seq, tmp_path):
+    """IMU and rotors, no frame: health no_camera (on VID_STATE and VID_STATUS as soon as the
+    bound passes), one error line, summary status no_camera, exit 5."""
+    import lcm
+    lcm_types()
+    from vid import state_t, status_t
+    log = no_camera_log(seq, tmp_path / "nocam.log", "--no-camera")
+    pub = tmp_path / "pub.log"
+    r = live(log, seq, tmp_path / "out", "--no-camera-s", "1.5", "--publish-url", f"file://{pub}?mode=w")
+    lines = r.stderr.splitlines()
+    assert r.returncode == 5 and len(lines) == 1, r.stderr
+    assert ": error:" in lines[0] and "CAM0" in lines[0] and "no camera frame in 1.5 s" in lines[0], lines[0]
+    s = summary(tmp_path / "out")
+    assert s["status"] == "no_camera" and s["health"] == "no_camera" and s["counts"]["camera_frames"] == 0
+    assert s["camera_first_frame_after_s"] is None
+    states = [state_t.decode(e.data) for e in lcm.EventLog(str(pub), "r") if e.channel == "VID_STATE"]
+    statuses = [status_t.decode(e.data) for e in lcm.EventLog(str(pub), "r") if e.channel == "VID_STATUS"]
+    assert states[-1].status == state_t.STATUS_NO_CAMERA
+    assert statuses[-1].status_text == "no_camera" and statuses[-1].status == state_t.STATUS_NO_CAMERA
+    t0 = states[0].timestamp
+    # within 1.5 s (+ one IMU period) of IMU data the published health says so
+    first = next(st.timestamp for st in states if st.status == state_t.STATUS_NO_CAMERA)
+    assert first - t0 <= 1.6e9
+    assert any(m.status_text == "no_camera" and m.timestamp <= first + 5e6 for m in statuses)
+
+    # Input shorter than the bound: the fault is reported at the end, still one line, exit 5.
+    r = live(log, seq, tmp_path / "out_short")
+    lines = r.stderr.splitlines()
+    assert r.returncode == 5 and len(lines) == 1 and "in the whole input" in lines[0], r.stderr
+    assert summary(tmp_path / "out_short")["status"] == "no_camera"
+
+
+def test_a_camera_that_starts_late_still_succeeds(seq, tmp_path):
+    """No image in the first 1.2 s, then the camera delivers: within the bound nothing is said
+    and the run ends ok; past the bound the fault is reported and then cleared."""
+    log = no_camera_log(seq, tmp_path / "late.log", "--camera-stall", "0", "1.2")
+    r = live(log, seq, tmp_path / "out")
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    s = summary(tmp_path / "out")
+    assert s["status"] == "ok" and s["health"] != "no_camera" and s["counts"]["camera_frames"] > 30
+    assert 1.1 < s["camera_first_frame_after_s"] < 1.3
+    r = live(log, seq, tmp_path / "out_bound", "--no-camera-s", "0.8")
+    lines = r.stderr.splitlines()
+    assert r.returncode == 0 and len(lines) == 1 and "no camera frame in 0.8 s" in lines[0], r.stderr
+    s = summary(tmp_path / "out_bound")
+    assert s["status"] == "ok" and s["health"] != "no_camera"

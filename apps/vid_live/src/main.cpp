@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
   return vid::app::run_main("vid_live", [&]() -> int {
     CLI::App app{"vid_live: estimate pose and external force from LCM sensor streams (IMU, cameras, rotor speeds)"};
     std::string url, publish_url, config, sensors, channels, out, mode, init, overload = "auto";
-    double window_ms = 30.0, stall_s = 0.5, idle_s = 0.0;
+    double window_ms = 30.0, stall_s = 0.5, idle_s = 0.0, no_camera_s = 3.0;
     std::size_t max_frames = 4;
     bool thrust = false, quiet = false;
     app.add_option("--lcm-url", url, "LCM URL to read sensors from (memq://, udpm://..., file://LOG?speed=1)")
@@ -71,6 +71,10 @@ int main(int argc, char** argv) {
                    "(auto: block for file:// logs with speed=0, drop otherwise)")
         ->check(CLI::IsMember({"auto", "drop", "block"}));
     app.add_option("--stall-s", stall_s, "no camera frame for this long (data time) counts as a camera stall [s]");
+    app.add_option("--no-camera-s", no_camera_s,
+                   "no camera frame at all in this much IMU data time [s] is a fault: health no_camera, and a run "
+                   "without any frame ends with status no_camera, exit 5")
+        ->check(CLI::PositiveNumber);
     app.add_option("--idle-timeout", idle_s, "live transports: stop after this long without messages [s] (0: never)");
     bool tracks = false;
     std::string rerun;
@@ -131,6 +135,7 @@ int main(int argc, char** argv) {
     opt.max_queued_frames = max_frames;
     opt.block_when_full = overload == "block" || (overload == "auto" && vid::live::is_fast_log_url(url));
     opt.stall_s = stall_s;
+    opt.no_camera_s = no_camera_s;
     opt.source_url = url;
     opt.lag_s = lag_s;
     if (opt.session.out_dir) std::filesystem::create_directories(*opt.session.out_dir);
@@ -179,6 +184,7 @@ int main(int argc, char** argv) {
         images = sensors;
       vid::app::write_rerun_recording(argv[0], out, images, rerun);
     }
-    return end == "stopped" ? 130 : 0;
+    if (end == "stopped") return 130;
+    return engine.camera_never_delivered() ? 5 : 0;  // said in one line by the engine
   });
 }
