@@ -257,6 +257,7 @@ void System::estimate_out(const EstimateOutput& e) {
   const EstimateRow row = to_row(e);
   if (outputs_) outputs_->write_estimate(row);
   ++estimates_;
+  if (dynamics()) force_mag_.add(e.F_ext_I);
   // Kept for the summary's ATE / force RMSE only when there is ground truth to score against
   // (vid_run on a simulated sequence; ground truth comes first in time order): a live run
   // would otherwise hold every estimate, ~40 kB/s at 400 Hz.

@@ -109,8 +109,26 @@ def vehicle_case(what: str, thrust0: bool, vehicle: str) -> Case:
     return Case("thrust", what, make)
 
 
+def flip_accelerometer(ds) -> None:
+    """imu0/data.csv with the accelerometer's sign flipped (-g at rest): the thrust along +z and
+    the accelerometer then disagree by 2 g, which the estimator takes for an external force."""
+    csv = ds / "mav0" / "imu0" / "data.csv"
+    head, rows = rows_of(csv)
+    flip = lambda v: v[1:] if v.startswith("-") else "-" + v  # noqa: E731 (exact: no float round trip)
+    write_rows(csv, head, [",".join(f[:4] + [flip(v) for v in f[4:7]]) for f in (r.split(",") for r in rows)])
+
+
+def flipped_accelerometer_case() -> Case:
+    def make(ctx, d):
+        ds = dataset(ctx, d, "feat")
+        flip_accelerometer(ds)
+        return vid_run(ds, d), "external_force_near_2g"
+    return Case("thrust", "imu0/data.csv: accelerometer sign flipped (dynamics mode: 2 g of external force)", make,
+                exit=0)
+
+
 def thrust_cases() -> list:
-    return [negative_thrust_case(), negative_coefficient_case(),
+    return [negative_thrust_case(), negative_coefficient_case(), flipped_accelerometer_case(),
             vehicle_case("--mode dynamics, thrust0, no vehicle.yaml", True, "none"),
             vehicle_case("--mode dynamics, rotor0, vehicle.yaml without rotor_thrust_coefficients", False, "no k")]
 

@@ -176,6 +176,7 @@ int main(int argc, char** argv) {
       throw std::runtime_error(fmt::format("{}: log cut mid-event at byte {} of {}; read the {} whole events before it",
                                            vid::live::log_path(url), log_scan->whole_bytes, log_scan->size,
                                            log_scan->events));
+    for (const auto& w : s["warnings"]) spdlog::warn("{}", w.get<std::string>());  // e.g. external_force_near_2g
     spdlog::info("input ended ({}): {} states published, health {}, {} re-initializations", end,
                  engine.published_states(), s["health"].get<std::string>(), s["reinit_count"].get<int>());
     if (!rerun.empty() && end != "stopped") {
