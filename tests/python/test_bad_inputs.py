@@ -106,4 +106,5 @@ def test_table(results, ctx):
         "tests/python/test_bad_inputs.py` (issues #26, #28, #52). DIR: the case's folder, SEQ: a 3 s simulated "
         "sequence, TMP: the test's scratch folder, REPO: the repository. Exit 2: usage error, 1: bad data, "
         "0: a tolerated fault (a skipped camera frame, a gap under --allow-gaps, unreadable bytes inside an "
-        "LCM log: warned, counted in summary.json); vid_live exit 5: no camera frame at all.\n\n" + "\n".join(rows) + "\n")
+        "LCM log: warned, counted in summary.json); vid_live exit 5: no camera frame at all.\n\n"
+        + "\n".join(rows) + "\n")
