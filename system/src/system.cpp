@@ -261,6 +261,7 @@ void System::estimate_out(const EstimateOutput& e) {
   last_estimate_t_ = row.t_ns;
   if (outputs_) outputs_->write_estimate(row);
   ++estimates_;
+  if (dynamics()) force_mag_.add(e.F_ext_I);
   // Kept for the summary's ATE / force RMSE only when there is ground truth to score against
   // (vid_run on a simulated sequence; ground truth comes first in time order): a live run
   // would otherwise hold every estimate, ~40 kB/s at 400 Hz.

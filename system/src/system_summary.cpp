@@ -255,6 +255,7 @@ nlohmann::json System::summary() const {
                  {"max_chi2_rejected_fraction", c.max_chi2_rejected_fraction}};
   s["accel"] = accel_report(c);
   s["noise_fit"] = noise_fit_report(c);
+  add_force_check(s, force_mag_, cfg.estimator.gravity);  // named warnings in s["warnings"]
   if (dynamics()) s["flight_phase"] = flight_phase_report(c, pipeline_->flight_phase());
   s["timing"] = stage_times_.to_json();  // frontend + estimator stages; excludes image decoding
   s["timing"]["image_decoding"] = decode_ms_.to_json();

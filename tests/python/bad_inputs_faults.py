@@ -1,6 +1,7 @@
 """Bad-input table, part 3 (issue #52, "silent faults"): inputs that used to run with status ok -
 an IMU rate that disagrees with the imu0 stamps, negative thrust, an IMU extrinsic that would be
-ignored, a garbage block inside an LCM log. Cases as in bad_inputs_data.py; no tests here."""
+ignored, a garbage block inside an LCM log, camera data that does not travel over LCM (feat0/) or never
+comes. Cases as in bad_inputs_data.py; no tests here."""
 from __future__ import annotations
 
 from bad_inputs_data import Case, dataset, rows_of, vid_run, write_rows
@@ -108,8 +109,26 @@ def vehicle_case(what: str, thrust0: bool, vehicle: str) -> Case:
     return Case("thrust", what, make)
 
 
+def flip_accelerometer(ds) -> None:
+    """imu0/data.csv with the accelerometer's sign flipped (-g at rest): the thrust along +z and
+    the accelerometer then disagree by 2 g, which the estimator takes for an external force."""
+    csv = ds / "mav0" / "imu0" / "data.csv"
+    head, rows = rows_of(csv)
+    flip = lambda v: v[1:] if v.startswith("-") else "-" + v  # noqa: E731 (exact: no float round trip)
+    write_rows(csv, head, [",".join(f[:4] + [flip(v) for v in f[4:7]]) for f in (r.split(",") for r in rows)])
+
+
+def flipped_accelerometer_case() -> Case:
+    def make(ctx, d):
+        ds = dataset(ctx, d, "feat")
+        flip_accelerometer(ds)
+        return vid_run(ds, d), "external_force_near_2g"
+    return Case("thrust", "imu0/data.csv: accelerometer sign flipped (dynamics mode: 2 g of external force)", make,
+                exit=0)
+
+
 def thrust_cases() -> list:
-    return [negative_thrust_case(), negative_coefficient_case(),
+    return [negative_thrust_case(), negative_coefficient_case(), flipped_accelerometer_case(),
             vehicle_case("--mode dynamics, thrust0, no vehicle.yaml", True, "none"),
             vehicle_case("--mode dynamics, rotor0, vehicle.yaml without rotor_thrust_coefficients", False, "no k")]
 
@@ -139,12 +158,40 @@ def replay_url_cases() -> list:
                      "--lcm-url udpm://10.0.0.1:7667", kind="LCM URL")]
 
 
-def _overwrite_middle(data: bytes, n: int = 2000) -> bytes:
-    """n zero bytes written over the middle of a log (a damaged block, not inserted bytes)."""
-    m = len(data) // 2
-    return data[:m] + b"\0" * n + data[m + n:]
+def _overwrite_middle(data: bytes, n: int = 1000) -> bytes:
+    """n zero bytes written over the middle of a log (a damaged block, not inserted bytes), from
+    the header of the first event past the middle after which n bytes hold only IMU / rotor
+    events: whole events are lost (zeros inside an image payload would pass unseen - an LCM log
+    has no checksum)."""
+    at, events = 0, []
+    while at + 28 <= len(data):
+        ch = int.from_bytes(data[at + 20:at + 24], "big")
+        events.append((at, data[at + 28:at + 28 + ch]))
+        at += 28 + ch + int.from_bytes(data[at + 24:at + 28], "big")
+    for k, (start, _) in enumerate(events):
+        covered = [c for a, c in events[k:] if a <= start + n]
+        if start >= len(data) // 2 and all(c in (b"IMU", b"ROTORS") for c in covered):
+            return data[:start] + b"\0" * n + data[start + n:]
+    raise ValueError("no stretch of small events in the log")
+
+
+# --- Camera data that does not travel (vid_replay) or never comes (vid_live) --------------------
+def replay_feat_cases() -> list:
+    base = ["--dataset", "{feat}", "--lcm-url", "memq://", "--fast", "--quiet"]
+    return [cli_case("vid_replay", base, "{feat}", exit=1, kind="camera"),
+            cli_case("vid_replay", [*base, "--no-camera"], "--no-camera", exit=0, kind="camera")]
+
+
+def no_camera_case() -> Case:
+    """vid_live on 3 s of IMU and rotors without one camera frame (the feature-level folder
+    replayed with --no-camera): a fault, exit 5."""
+    def make(ctx, d):
+        return vid_live(ctx, f"file://{ctx.log}?speed=0"), "CAM0"
+    return Case("camera", "vid_live: log with IMU and rotors, no camera frame", make, exit=5)
 
 
 def all_cases() -> list:
     return (rate_cases() + thrust_cases() + [imu_extrinsic_case()] + replay_url_cases()
-            + [log_case("2000 bytes overwritten in the middle", _overwrite_middle)])
+            + [log_case("1000 bytes overwritten in the middle", _overwrite_middle, exit=0),
+               log_case("1000 bytes overwritten in the middle", _overwrite_middle, "--strict")]
+            + replay_feat_cases() + [no_camera_case()])

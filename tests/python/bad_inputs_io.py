@@ -14,19 +14,21 @@ VENV_BIN = pathlib.Path(os.environ.get("VID_VENV_BIN", REPO / ".venv" / "bin"))
 
 
 # --- LCM logs and URLs (vid_live) --------------------------------------------------------------
-def vid_live(ctx, url, *extra) -> list:
-    return [str(program("vid_live")), "--lcm-url", url, "--sensors", str(ctx.feat), "--config", SIM_CONFIG, "--quiet",
-            *extra]
+def vid_live(ctx, url, *extra, sensors=None) -> list:
+    return [str(program("vid_live")), "--lcm-url", url, "--sensors", str(sensors or ctx.feat), "--config", SIM_CONFIG,
+            "--quiet", *extra]
 
 
-def log_case(what: str, content) -> Case:
+def log_case(what: str, content, *extra, exit=1) -> Case:
+    """vid_live on the rendered sequence's log (camera included) changed by content(bytes)."""
     def make(ctx, d):
         log = d / "in.log"
-        data = content(ctx.log.read_bytes())
+        data = content(ctx.img_log.read_bytes())
         if data is not None:
             log.write_bytes(data)
-        return vid_live(ctx, f"file://{log}?speed=0"), str(log)
-    return Case("LCM log", what, make)
+        return vid_live(ctx, f"file://{log}?speed=0", *extra, sensors=ctx.img), str(log)
+    label = what + (f" ({' '.join(extra)})" if extra else "")
+    return Case("LCM log", label, make, exit=exit)
 
 
 def url_case(url: str, what: str, flag="--lcm-url", named=None) -> Case:
@@ -44,7 +46,10 @@ def lcm_cases() -> list:
         log_case("empty log", lambda b: b""),
         log_case("random bytes", lambda b: os.urandom(4096)),
         log_case("garbage before the first event", lambda b: b"garbage!" + b),
-        log_case("garbage between events", lambda b: b[:_event_end(b, 3)] + b"\0" * 16 + b[_event_end(b, 3):]),
+        # read past (LCM's reader would stop there), one warning, counted in summary.json input.lcm_log
+        log_case("garbage between events", _garbage_between, exit=0),
+        log_case("garbage between events", _garbage_between, "--strict"),
+        log_case("garbage after the last event", lambda b: b + b"\0" * 64),
         log_case("cut mid-event", lambda b: b[: _event_end(b, 200) + 40]),
         log_case("cut inside an event header", lambda b: b[: _event_end(b, 200) + 10]),
         log_case("text file", lambda b: b"timestamp,x\n1,2\n" * 20),
@@ -68,6 +73,10 @@ def lcm_cases() -> list:
         url_case("udpm://10.0.0.1:7667", "unicast address", flag="--publish-url"),
     ]
     return cases
+
+
+def _garbage_between(b: bytes) -> bytes:
+    return b[:_event_end(b, 3)] + b"\0" * 16 + b[_event_end(b, 3):]
 
 
 def _event_end(data: bytes, n: int) -> int:

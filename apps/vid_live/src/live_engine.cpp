@@ -1,5 +1,6 @@
 #include "live/live_engine.h"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -18,7 +19,8 @@ double ms_between(SteadyClock::time_point a, SteadyClock::time_point b) {
 }  // namespace
 
 LiveEngine::LiveEngine(LiveOptions options, lcm::LCM* publisher)
-    : opt_(std::move(options)), pub_(publisher), window_(opt_.reorder_window_ns), wall_start_(SteadyClock::now()) {
+    : opt_(std::move(options)), pub_(publisher), window_(opt_.reorder_window_ns), camera_watch_(opt_.no_camera_s),
+      wall_start_(SteadyClock::now()) {
   opt_.session.features = system::FeatureSource::kImages;
   use_rotor_ = opt_.session.has_rotor;
   use_thrust_ = opt_.session.has_thrust && !use_rotor_;
@@ -221,6 +223,10 @@ void LiveEngine::worker_loop() {
   std::lock_guard<std::mutex> lock(mutex_);
   finished_ = true;
   if (session_->status() == FilterStatus::kDiverged) health_ = Health::kDiverged;
+  if (camera_watch_.on_end())  // an input shorter than --no-camera-s, without a frame
+    spdlog::error("channel {}: no camera frame in the whole input ({:.1f} s of IMU data): status no_camera (exit 5)",
+                  opt_.channels.cam0, camera_watch_.imu_span_s());
+  if (camera_watch_.fault()) health_ = Health::kNoCamera;
   session_->close_outputs();
   publish_status_locked(last_t_.value_or(0));
 }
@@ -245,9 +251,18 @@ void LiveEngine::process(WorkItem& w) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!first_t_) first_t_ = t;
   last_t_ = std::max(last_t_.value_or(t), t);
+  bool camera_fault_now = false;  // the no-camera fault starts: said once, published at once
   if (std::holds_alternative<CameraFrame>(w)) {
+    if (camera_watch_.on_frame(t))
+      spdlog::info("channel {}: first camera frame after {:.1f} s of IMU data; health no longer no_camera",
+                   opt_.channels.cam0, camera_watch_.first_frame_after_s().value_or(0.0));
     last_frame_t_ = t;
     stalled_ = false;
+  } else if (std::holds_alternative<ImuSample>(w) && camera_watch_.on_imu(t)) {
+    camera_fault_now = true;
+    spdlog::error("channel {}: no camera frame in {:.1f} s of IMU data: health no_camera; a run without any camera "
+                  "frame ends with status no_camera, exit 5 (--no-camera-s)",
+                  opt_.channels.cam0, camera_watch_.imu_span_s());
   } else if (last_frame_t_ && !stalled_ && ns_to_s(t - *last_frame_t_) > opt_.stall_s) {
     stalled_ = true;  // the cameras went quiet while the IMU goes on
     ++camera_stalls_;
@@ -263,12 +278,13 @@ void LiveEngine::process(WorkItem& w) {
     processed_arrivals_.clear();
   }
   health_ = health_locked();
-  if (!last_status_t_ || t - *last_status_t_ >= 1'000'000'000) publish_status_locked(t);
+  if (camera_fault_now || !last_status_t_ || t - *last_status_t_ >= 1'000'000'000) publish_status_locked(t);
 }
 
 Health LiveEngine::health_locked() const {
   const FilterStatus st = session_->status();
   if (st == FilterStatus::kDiverged) return Health::kDiverged;
+  if (camera_watch_.fault()) return Health::kNoCamera;
   if (st == FilterStatus::kWaitingForInit) return Health::kInitializing;
   return stalled_ || session_->starving() ? Health::kDegraded : Health::kTracking;  // cameras quiet or no feature usable
 }
@@ -392,6 +408,11 @@ Health LiveEngine::health() const {
   return health_;
 }
 
+bool LiveEngine::camera_never_delivered() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return camera_watch_.never_delivered();
+}
+
 long LiveEngine::published_states() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return published_;
@@ -406,6 +427,13 @@ nlohmann::json LiveEngine::summary() const {
   s["health"] = lcm_io::to_string(health_);
   if (finished_ && health_ != Health::kDiverged && session_->status() != FilterStatus::kDiverged)
     s["status"] = to_string(session_->status());
+  if (finished_ && camera_watch_.never_delivered()) {  // the cause, whatever the estimator did without it
+    s["status"] = "no_camera";
+    s["status_message"] = fmt::format("no camera frame on channel {} in {:.1f} s of IMU data", opt_.channels.cam0,
+                                      camera_watch_.imu_span_s());
+  }
+  const auto first_frame = camera_watch_.first_frame_after_s();
+  s["camera_first_frame_after_s"] = first_frame ? nlohmann::json(*first_frame) : nlohmann::json(nullptr);
   s["data_duration_s"] = data_s;
   s["wall_time_s"] = wall_s;
   s["real_time_factor"] = wall_s > 0.0 ? data_s / wall_s : 0.0;
@@ -421,6 +449,7 @@ nlohmann::json LiveEngine::summary() const {
                {"max_queued_frames", opt_.max_queued_frames},
                {"overload", opt_.block_when_full ? "block" : "drop_oldest_frames"},
                {"stall_s", opt_.stall_s},
+               {"no_camera_s", opt_.no_camera_s},
                {"input_channels", input_channels()}};
   return s;
 }

@@ -5,7 +5,10 @@
 
 #include <atomic>
 #include <csignal>
+#include <filesystem>
 #include <optional>
+
+#include <unistd.h>
 
 #include "app/cli.h"
 #include "app/run_main.h"
@@ -19,6 +22,18 @@
 namespace {
 std::atomic<bool> g_stop{false};
 extern "C" void on_signal(int) { g_stop.store(true); }
+
+/// A file removed when the run ends, however it ends.
+struct TempFile {
+  std::filesystem::path path;
+  explicit TempFile(std::filesystem::path p) : path(std::move(p)) {}
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  ~TempFile() {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+  }
+};
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -27,7 +42,7 @@ int main(int argc, char** argv) {
   return vid::app::run_main("vid_live", [&]() -> int {
     CLI::App app{"vid_live: estimate pose and external force from LCM sensor streams (IMU, cameras, rotor speeds)"};
     std::string url, publish_url, config, sensors, channels, out, mode, init, overload = "auto";
-    double window_ms = 30.0, stall_s = 0.5, idle_s = 0.0;
+    double window_ms = 30.0, stall_s = 0.5, idle_s = 0.0, no_camera_s = 3.0;
     std::size_t max_frames = 4;
     bool thrust = false, quiet = false;
     app.add_option("--lcm-url", url, "LCM URL to read sensors from (memq://, udpm://..., file://LOG?speed=1)")
@@ -56,6 +71,10 @@ int main(int argc, char** argv) {
                    "(auto: block for file:// logs with speed=0, drop otherwise)")
         ->check(CLI::IsMember({"auto", "drop", "block"}));
     app.add_option("--stall-s", stall_s, "no camera frame for this long (data time) counts as a camera stall [s]");
+    app.add_option("--no-camera-s", no_camera_s,
+                   "no camera frame at all in this much IMU data time [s] is a fault: health no_camera, and a run "
+                   "without any frame ends with status no_camera, exit 5")
+        ->check(CLI::PositiveNumber);
     app.add_option("--idle-timeout", idle_s, "live transports: stop after this long without messages [s] (0: never)");
     bool tracks = false;
     std::string rerun;
@@ -70,15 +89,33 @@ int main(int argc, char** argv) {
                    "also publish the fixed-lag smoothed state and force of this lag [s] on VID_STATE_LAGGED / "
                    "VID_FORCE_LAGGED (dynamics mode; with --out also force_smoothed.csv, trajectory_smoothed_tum.txt)")
         ->check(CLI::PositiveNumber);
+    bool strict = false;
+    app.add_flag("--strict", strict,
+                 "file:// input: bytes in the middle of the log that are not LCM events are an error (default: "
+                 "read past them with one warning, counted in summary.json input.lcm_log)");
     app.add_flag("--quiet", quiet, "warnings only");
     if (const auto code = vid::app::parse_cli(app, argc, argv)) return *code;
     if (quiet) spdlog::set_level(spdlog::level::warn);
     vid::live::check_lcm_url(url, "--lcm-url", /*for_input=*/true);
     if (!publish_url.empty()) vid::live::check_lcm_url(publish_url, "--publish-url", /*for_input=*/false);
     // A log is walked before LCM reads it: not a log is an error now, a cut one after its last
-    // whole event.
+    // whole event. Unreadable bytes between events (a damaged block) are skipped by LCM's
+    // reader: said in one line, counted, or with --strict an error.
     std::optional<vid::live::LogScan> log_scan;
-    if (vid::live::is_log_url(url)) log_scan = vid::live::scan_lcm_log(vid::live::log_path(url));
+    std::string read_url = url;  // a damaged log is read through a copy without the damage
+    std::optional<TempFile> repaired;
+    if (vid::live::is_log_url(url)) {
+      log_scan = vid::live::scan_lcm_log(vid::live::log_path(url));
+      if (!log_scan->damaged.empty()) {
+        const std::string line = vid::live::describe_damage(vid::live::log_path(url), *log_scan, strict);
+        if (strict) throw std::runtime_error(line);
+        spdlog::warn("{}", line);
+        repaired.emplace(std::filesystem::temp_directory_path() /
+                         fmt::format("vid_live_{}_undamaged.lcm", static_cast<long>(::getpid())));
+        vid::live::write_without_damage(vid::live::log_path(url), *log_scan, repaired->path.string());
+        read_url = vid::live::with_log_path(url, repaired->path.string());
+      }
+    }
 
     vid::live::LiveOptions opt;
     if (!sensors.empty()) {
@@ -98,11 +135,12 @@ int main(int argc, char** argv) {
     opt.max_queued_frames = max_frames;
     opt.block_when_full = overload == "block" || (overload == "auto" && vid::live::is_fast_log_url(url));
     opt.stall_s = stall_s;
+    opt.no_camera_s = no_camera_s;
     opt.source_url = url;
     opt.lag_s = lag_s;
     if (opt.session.out_dir) std::filesystem::create_directories(*opt.session.out_dir);
 
-    lcm::LCM input(url);
+    lcm::LCM input(read_url);
     if (!input.good()) throw std::runtime_error(url + ": LCM cannot open this URL");
     if (publish_url.empty() && !vid::live::is_log_url(url)) publish_url = url;
     // The worker publishes while this thread handles input: a separate LCM instance for output
@@ -130,12 +168,15 @@ int main(int argc, char** argv) {
         input, url, [&] { return g_stop.load() || engine.failed(); }, idle_s, engine.message_count());
     engine.finish();  // throws (one-line error, exit 1) when the estimator stopped on an error
     const bool cut = end == "eof" && log_scan && log_scan->whole_bytes < log_scan->size;
-    engine.write_summary({{"input_end", cut ? "cut" : end}});  // eof | cut | stopped (SIGINT/SIGTERM) | idle
+    nlohmann::json extra = {{"input_end", cut ? "cut" : end}};  // eof | cut | stopped (SIGINT/SIGTERM) | idle
+    if (log_scan) extra["input"] = {{"lcm_log", vid::live::log_scan_json(vid::live::log_path(url), *log_scan)}};
+    engine.write_summary(extra);
     const auto s = engine.summary();
     if (cut)
       throw std::runtime_error(fmt::format("{}: log cut mid-event at byte {} of {}; read the {} whole events before it",
                                            vid::live::log_path(url), log_scan->whole_bytes, log_scan->size,
                                            log_scan->events));
+    for (const auto& w : s["warnings"]) spdlog::warn("{}", w.get<std::string>());  // e.g. external_force_near_2g
     spdlog::info("input ended ({}): {} states published, health {}, {} re-initializations", end,
                  engine.published_states(), s["health"].get<std::string>(), s["reinit_count"].get<int>());
     if (!rerun.empty() && end != "stopped") {
@@ -144,6 +185,7 @@ int main(int argc, char** argv) {
         images = sensors;
       vid::app::write_rerun_recording(argv[0], out, images, rerun);
     }
-    return end == "stopped" ? 130 : 0;
+    if (end == "stopped") return 130;
+    return engine.camera_never_delivered() ? 5 : 0;  // said in one line by the engine
   });
 }

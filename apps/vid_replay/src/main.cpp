@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
     app.add_option("--image-bit-depth", opt.image_bit_depth,
                    "significant bits of 16-bit images, e.g. 12 (default 0: found per camera from sample images)")
         ->check(CLI::IsMember({0, 9, 10, 11, 12, 13, 14, 15, 16}));
+    app.add_flag("--no-camera", opt.no_camera,
+                 "publish IMU and rotors/thrust without the camera (one warning line); needed for a folder without "
+                 "cam0/ images, e.g. feature-level feat0/ data, which has no LCM message");
     app.add_option("--report", report, "write what was published and every injected fault as JSON");
     bool quiet = false;
     app.add_flag("--quiet", quiet, "no progress bar, warnings only");

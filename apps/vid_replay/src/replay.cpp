@@ -48,6 +48,28 @@ std::size_t data_rows(const fs::path& csv) {
   return in.rows();
 }
 
+/// The camera travels over LCM as images (image_t) only: a folder without cam0/ (feature-level
+/// feat0/ data, or no camera) would replay IMU and rotors alone, which a receiver cannot tell
+/// from a camera that never sends. Refused in one line unless --no-camera says so.
+void check_camera(const io::DatasetReader& reader, const ReplayOptions& opt) {
+  const std::string dir = opt.dataset.string();
+  const bool images = reader.has_stream("cam0"), features = reader.has_stream("feat0");
+  if (opt.no_camera) {
+    std::string left_out = images ? (reader.has_stream("cam1") ? "cam0/, cam1/" : "cam0/") : "";
+    if (features) left_out += std::string(left_out.empty() ? "" : "; ") + "feat0/: feature-level, no LCM message";
+    spdlog::warn("{}: --no-camera: publishing IMU and rotor/thrust messages without the camera{}", dir,
+                 left_out.empty() ? "" : " (not published: " + left_out + ")");
+    return;
+  }
+  if (images) return;
+  if (features)
+    throw std::runtime_error(dir + ": the camera data is feature-level (feat0/, no images), which has no LCM message: "
+                                   "run the folder with vid_run --dataset, or pass --no-camera to publish IMU and "
+                                   "rotors without the camera");
+  throw std::runtime_error(dir + ": no camera images (cam0/) to publish; pass --no-camera to publish IMU and rotors "
+                                 "without the camera");
+}
+
 }  // namespace
 
 nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
@@ -59,8 +81,10 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   ro.skip_missing_images = true;
   ro.gaps_as_warnings = true;  // published as recorded: the receiver meets the gap and reports it
   ro.warn = [](const std::string& w) { spdlog::warn("{}", w); };
+  ro.read_images = !opt.no_camera;
   app::check_dataset_window(opt.dataset, ro, opt.start_s, opt.end_s);
   io::DatasetReader reader(opt.dataset, ro);
+  check_camera(reader, opt);
   const std::string rotor_unit = reader.calibration().rotor ? reader.calibration().rotor->unit : "rpm";
 
   std::unique_ptr<lcm::LCM> lcm;
@@ -296,6 +320,7 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
                       {"camera_stalls", camera_stalls}};
   report["images_unreadable"] = unreadable;
   report["loops"] = loops;
+  report["camera_published"] = !opt.no_camera;
   if (!opt.fast) report["max_lag_ms"] = max_lag_ms;
   report["wall_time_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return report;

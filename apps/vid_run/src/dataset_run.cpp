@@ -218,6 +218,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   s["cpu"]["real_time_factor_cpu"] = cpu_s > 0.0 ? data_s / cpu_s : 0.0;
   system::write_summary(opt.out_dir, s);
   for (const auto& w : s["noise_fit"]["warnings"]) spdlog::warn("noise fit: {}", w.get<std::string>());
+  for (const auto& w : s["warnings"]) spdlog::warn("{}", w.get<std::string>());
   if (error) std::rethrow_exception(error);
 
   const long frames = session.camera_frames() + session.feature_frames();

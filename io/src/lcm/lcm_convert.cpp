@@ -176,6 +176,7 @@ std::string to_string(Health h) {
     case Health::kTracking: return "tracking";
     case Health::kDegraded: return "degraded";
     case Health::kDiverged: return "diverged";
+    case Health::kNoCamera: return "no_camera";
   }
   return "unknown";
 }

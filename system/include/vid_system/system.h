@@ -18,6 +18,7 @@
 #include <opencv2/core.hpp>
 
 #include "vid_system/config.h"
+#include "vid_system/force_check.h"
 #include "vid_system/frame_faults.h"
 #include "vid_system/metrics.h"
 #include "vid_system/outputs.h"
@@ -159,6 +160,7 @@ class System {
   std::map<TimeNs, double> tracking_ms_;
   Vec3Series est_p_, est_f_W_, est_f_I_, gt_p_, gt_f_W_;
   Vec3Series est_p_smoothed_, est_f_W_smoothed_, est_f_I_smoothed_;
+  ForceMagnitude force_mag_;  ///< mean |F_ext| of the run (summary force_check, the 2 g warning)
   std::vector<Eigen::Matrix3d> gt_R_WI_;  ///< at gt_p_.t_ns, for the body-frame force figure
   std::vector<TimeNs> mass_t_;
   std::vector<double> mass_kg_;

@@ -22,6 +22,7 @@
 #include "io/dataset_reader.h"
 #include "io/lcm/channels.h"
 #include "io/lcm/lcm_convert.h"
+#include "live/camera_watch.h"
 #include "live/live_types.h"
 #include "live/reorder_window.h"
 #include "vid_system/input_checks.h"
@@ -39,6 +40,7 @@ struct LiveOptions {
   std::size_t max_queued_samples = 100000; ///< IMU/rotor/thrust samples waiting (then the reader waits)
   bool block_when_full = false;            ///< true: the LCM thread waits instead of dropping (logs)
   double stall_s = 0.5;                    ///< no camera frame for this long (data time) = stall
+  double no_camera_s = 3.0;                ///< no camera frame at all in this much IMU data time = no_camera
   std::string source_url;                  ///< recorded in the summary
   double lag_s = 0.0;                      ///< > 0: fixed-lag smoothing, published on the *_LAGGED channels
   std::filesystem::path imu_yaml = "imu0/sensor.yaml";  ///< named when the IMU rate disagrees (--sensors)
@@ -84,6 +86,8 @@ class LiveEngine {
   Health health() const;
   /// @brief Estimates published so far.
   long published_states() const;
+  /// @brief True when the input had IMU data and not one camera frame (status no_camera). After finish().
+  bool camera_never_delivered() const;
   /// @brief Payloads received on the input channels so far (decoded or not).
   const std::atomic<long>& message_count() const { return messages_; }
 
@@ -131,6 +135,7 @@ class LiveEngine {
   bool stalled_ = false;
   std::optional<TimeNs> first_t_, last_t_, last_frame_t_, last_status_t_;
   std::optional<system::ImuRateWatch> imu_rate_;  ///< worker thread only
+  CameraWatch camera_watch_{3.0};                   ///< written by the worker under mutex_
   std::map<TimeNs, SteadyClock::time_point> frame_arrival_;     ///< frames pushed, not yet processed
   std::vector<SteadyClock::time_point> processed_arrivals_;     ///< processed, awaiting a state
   system::StageStats latency_ms_;

@@ -88,8 +88,9 @@ image_t make_image(TimeNs t_ns, int camera_id, int width, int height, const std:
 void validate_image(const image_t& m, const std::string& channel, int num_cameras);
 
 /// @brief Health states published in state_t.status / status_t.status.
-enum class Health : std::int8_t { kInitializing = 0, kTracking = 1, kDegraded = 2, kDiverged = 3 };
-/// @brief "initializing" / "tracking" / "degraded" / "diverged".
+/// kNoCamera: no camera frame at all for a bounded span of IMU data (vid_live --no-camera-s).
+enum class Health : std::int8_t { kInitializing = 0, kTracking = 1, kDegraded = 2, kDiverged = 3, kNoCamera = 4 };
+/// @brief "initializing" / "tracking" / "degraded" / "diverged" / "no_camera".
 std::string to_string(Health h);
 
 }  // namespace vid::lcm_io
