@@ -6,7 +6,7 @@
 ///
 /// Error state dx = [dtheta (right perturbation, q = q_hat ⊗ exp(dtheta/2)), dp, dv, dm].
 /// The discrete map holds u constant over [t_k, t_k + dt] and is exact for that input
-/// (see README "Methods"): with phi = w dt, a = T/m,
+/// (see dynamics/massid/README.md "Methods"): with phi = w dt, a = T/m,
 ///   R_{k+1} = R_k Exp(phi),  v_{k+1} = v_k + (a R_k J_l(phi) e3 + g_W) dt,
 ///   p_{k+1} = p_k + v_k dt + (a R_k G2(phi) e3 + g_W / 2) dt^2,
 /// with J_l(phi) = sum phi^n / (n+1)! (left Jacobian) and G2(phi) = sum phi^n / (n+2)!.

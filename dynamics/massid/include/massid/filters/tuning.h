@@ -12,7 +12,7 @@
 
 namespace vid::massid {
 
-/// @brief Tuning of the model-based methods (documented in README "Methods"); defaults chosen on
+/// @brief Tuning of the model-based methods (documented in dynamics/massid/README.md "Methods"); defaults chosen on
 /// generated loop runs (massid_diag sweeps) as the best compromise between noise and step lag.
 struct ModelBasedTuning {
   double sigma_theta_rw = 0.005;   ///< attitude random walk [rad/sqrt(s)] (body-rate tracking error)
