@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Mid-flight starts of vid_run with init_mode auto against ground-truth initialization at the
-same time (README "Initialization", issue #49): per dataset and start, whether and when the
+same time (docs/notes/initialization.md, issue #49): per dataset and start, whether and when the
 estimator initialized, how, the initial state's errors in units of its own sigmas (roll/pitch,
 velocity, per component), and ATE against a run initialized from ground truth at the time the
 auto run initialized. Prints one JSON line per run and a table.

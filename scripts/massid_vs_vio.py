@@ -5,7 +5,7 @@ versus the VIO (camera + IMU + rotor speeds) with its mass state (issue #21, ite
 For each preset and seed, vid_sim writes the sequence (features only, 60 s); then
 
 * VIO: ``vid_run --config config/sim`` with ``thrust_scale_random_walk: 0.02`` and
-  ``force_rate_random_walk: 0`` (README "Mass state": the setting that makes the mass
+  ``force_rate_random_walk: 0`` (docs/notes/mass-state.md: the setting that makes the mass
   observable) -> ``mass.csv``;
 * study: ``vid_massid from-sequence`` turns every sequence into a study run (true pose and
   velocity plus the study's noise, 0.005 rad / 0.01 m / 0.02 m/s at 100 Hz; thrust from the

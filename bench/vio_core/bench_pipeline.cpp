@@ -1,5 +1,5 @@
 /// Whole-pipeline cost per camera frame in dynamics mode, with and without fixed-lag smoothing
-/// (README "Fixed-lag smoothing of the force"; issue #22 asks that smoothing add <= 30 %). The
+/// (docs/notes/smoothing.md; issue #22 asks that smoothing add <= 30 %). The
 /// sequence is the tests' analytic synthetic one (tests/vio_core/synthetic.h: stereo 20 Hz,
 /// IMU 400 Hz, rotor 100 Hz, a smooth external force, feature tracks without a frontend), so
 /// the time is propagation + accelerometer updates + MSCKF + marginalization, no KLT.

@@ -7,7 +7,7 @@ The real estimator has strictly less information (the MSCKF only sees relative m
 tilt, b_a and F_ext trade off), so its error can not be below these numbers.
 
 Per world axis the model is the estimator's force model (force-rate state, integrated random
-walk; README "External-force accuracy"):
+walk; docs/notes/force-accuracy.md):
 
     p' = v,  v' = F,  F' = F_dot,  F_dot' = w,   w white, density q  [m/s^4/sqrt(Hz)]
 

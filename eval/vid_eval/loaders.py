@@ -45,8 +45,8 @@ REINIT_MARKER = "# re-initialized at"
 
 
 def reinit_marks(path: PathLike) -> np.ndarray:
-    """Times [ns] of the re-initialization markers in a trajectory file (README "Recovery from
-    divergence"): from each on, the estimate is in a new world frame. Empty for other files."""
+    """Times [ns] of the re-initialization markers in a trajectory file (docs/notes/recovery.md):
+    from each on, the estimate is in a new world frame. Empty for other files."""
     spath = os.fspath(path)
     marks: List[int] = []
     with open(spath, "r", encoding="utf-8", errors="replace") as handle:

@@ -1,4 +1,4 @@
-"""Mass-identification metrics: RMSPE (seed eq. 48) and RMSE.
+"""Mass-identification metrics: RMSPE (docs/model.md eq. (56)) and RMSE.
 
 ``RMSPE = sqrt( (1/N) * sum_k ((m_hat_k - m_k) / m_k)^2 ) * 100 %``.
 """

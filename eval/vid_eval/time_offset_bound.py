@@ -6,8 +6,8 @@ information on t_d is then
 
     I = integral |alpha(t)|^2 dt / sigma_g^2,        sigma(t_d) >= 1 / sqrt(I),
 
-the Cramér-Rao bound of any estimator that gets t_d from the rotation (README "Camera-IMU time
-offset": the estimator's sigma on noise-free data is 3-22 % above it; the
+the Cramér-Rao bound of any estimator that gets t_d from the rotation (docs/notes/time-offset.md:
+the estimator's sigma on noise-free data is 3-22 % above it; the
 position path adds next to nothing on our flights). It says how much rotation a calibration
 needs: 0.5 ms at 3 sigma after 10 s takes an RMS angular acceleration of 1.9 rad/s^2 with
 sigma_g = 1e-3 rad/s/sqrt(Hz).

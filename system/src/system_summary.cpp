@@ -160,7 +160,7 @@ Vec3Series rotate_pieces(const Vec3Series& f_W, const SegmentedAte& seg) {
 void System::score(nlohmann::json& s, const Vec3Series& est_p, const Vec3Series& est_f_W, const Vec3Series& est_f_I,
                    const std::string& sfx) const {
   // After a re-initialization the estimator has a new world frame: each piece between two
-  // initializations is aligned on its own (README "Recovery from divergence").
+  // initializations is aligned on its own (docs/notes/recovery.md).
   // A piece after a re-initialization starts with its first output (the in-flight initializer's
   // window, when it wrote one), the first piece at the first initialization.
   std::vector<TimeNs> starts;
@@ -218,7 +218,7 @@ nlohmann::json System::summary() const {
   s["status"] = to_string(pipeline_->status());
   s["status_message"] = pipeline_->status_message();
   const PipelineCounters c = counters();
-  {  // README "Initialization": every (re-)initialization, how and when
+  {  // docs/notes/initialization.md: every (re-)initialization, how and when
     nlohmann::json events = nlohmann::json::array();
     for (const InitRecord& r : c.inits)
       if (events.size() < 200) events.push_back({{"t_ns", r.t_ns}, {"how", r.how}});

@@ -1,6 +1,6 @@
 #pragma once
 /// @file mini_sim.h
-/// @brief A tiny deterministic simulator of seed eq. 47 for the filter tests: a loop reference
+/// @brief A tiny deterministic simulator of docs/model.md eq. (55) for the filter tests: a loop reference
 /// flown with differentially-flat commands (thrust from the true mass, body rates from the
 /// reference attitude), truth integrated with RK4 on the continuous ODE (inputs held between
 /// samples), and Gaussian noise on the measured q, p, v.

@@ -1,5 +1,5 @@
 /// @file test_physics.cpp
-/// @brief With noise off, the recorded run obeys seed eq. 47 with the true mass: q follows the
+/// @brief With noise off, the recorded run obeys docs/model.md eq. (55) with the true mass: q follows the
 /// held body rate, p integrates v, and v integrates R (T/m_true) e3 + g (checked against an
 /// independent Gauss-Legendre quadrature of the held-input acceleration).
 #include <gtest/gtest.h>

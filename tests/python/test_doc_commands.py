@@ -1,7 +1,7 @@
 """Every command in the documentation copy-pastes and runs.
 
-The rules, for README.md and every guide (docs/, python/, eval/, apps/*, config/sim, fuzz/,
-bench/peers, dynamics/massid, bag2asl):
+The rules, for README.md and every guide (docs/, docs/notes/, python/, eval/, apps/*, config/sim,
+fuzz/, bench/peers, dynamics/massid, bag2asl):
 
 * every fenced block names its language: ``bash`` blocks are commands, ``text`` blocks are
   synopses, program output and diagrams (``yaml``, ``cmake``, ``python`` ... as they are);
@@ -31,7 +31,7 @@ DOCS = sorted(
     {REPO / "README.md", REPO / "python" / "README.md", REPO / "eval" / "README.md",
      REPO / "config" / "sim" / "README.md", REPO / "fuzz" / "README.md", REPO / "bench" / "peers" / "README.md",
      REPO / "dynamics" / "massid" / "README.md", REPO / "eval" / "vid_eval" / "bag2asl" / "README.md",
-     *(REPO / "docs").glob("*.md"), *(REPO / "apps").glob("*/README.md")})
+     *(REPO / "docs").glob("*.md"), *(REPO / "docs" / "notes").glob("*.md"), *(REPO / "apps").glob("*/README.md")})
 SKIP = re.compile(r"<!--\s*doc-test:\s*skip:\s*(.+?)\s*-->")
 SELF = re.compile(r"(^|\s)(bash\s+)?(\./)?(scripts/test\.sh|\.ci/run)(\s|$)")
 

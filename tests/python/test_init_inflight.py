@@ -1,5 +1,5 @@
-"""Issue 49 step 3: init_mode auto initializes in flight from a 1 s stereo window (README
-"Initialization"). fast_yaw started mid-yaw (which the still test refuses) and vid17_like started
+"""Issue 49 step 3: init_mode auto initializes in flight from a 1 s stereo window
+(docs/notes/initialization.md). fast_yaw started mid-yaw (which the still test refuses) and vid17_like started
 mid-flight initialize within 1.5 s of data, and their ATE stays near a run initialized from
 ground truth at the same time; a hovering start still takes the still window."""
 import numpy as np

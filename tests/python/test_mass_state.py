@@ -1,4 +1,4 @@
-"""The mass state in the VIO (issue #21, README "Mass state"): with the thrust scale estimated and
+"""The mass state in the VIO (issue #21, docs/notes/mass-state.md): with the thrust scale estimated and
 a slow external-force model, a payload picked up and dropped in flight (vid_loaded: +0.6 kg on
 3.1 kg at 25 s, off again at 45 s) and a continuous loss (spraying) are identified from camera,
 IMU and rotor speeds alone; seeds 1-3, feature-level, random initial heading. payload_heavy
@@ -162,7 +162,7 @@ def test_no_mass_file_without_the_state(configs, tmp_path_factory):
 
 
 def test_fast_force_model_with_the_mass_state_is_warned(configs, tmp_path_factory):
-    """The confounded combination (README "Mass state") runs, with one warning line that says why."""
+    """The confounded combination (docs/notes/mass-state.md) runs, with one warning line that says why."""
     cfg = tmp_path_factory.mktemp("cfg") / "fast"
     shutil.copytree(REPO / "config" / "sim", cfg)
     with open(cfg / "estimator.yaml", "a") as f:

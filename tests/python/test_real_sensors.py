@@ -103,7 +103,7 @@ def over_seeds(tmp_path_factory, preset: str) -> list:
 # 0.4 m through the floor on takeoff_landing_short, ATE 0.076 m). With no adaptation: 0.341 / 88.
 # A fast-attack estimate (the same power over 8 samples) took the bursts to 0.165 / 12 jumps but
 # impacts_short's force from 0.90 to 1.20 and takeoff_landing_short's from 0.66 to 0.93 m/s^2:
-# within 20 ms a burst's onset and an impact look alike (README "Real sensors").
+# within 20 ms a burst's onset and an impact look alike (docs/notes/real-sensors.md).
 WORST_FORCE = {"fast_drag_short": 0.106, "vid17_real_sensors_short": 0.115, "rotor_dip_short": 0.165,
                "vibration_burst_short": 0.301}
 MOST_JUMPS = {"fast_drag_short": 0, "vid17_real_sensors_short": 0, "rotor_dip_short": 0, "vibration_burst_short": 58}

@@ -1,4 +1,4 @@
-"""Camera-IMU time offset (issue #23, README "Camera-IMU time offset"): the simulator stamps
+"""Camera-IMU time offset (issue #23, docs/notes/time-offset.md): the simulator stamps
 images t_imu - t_d (cameras.time_offset_s), the estimator places frames at t_cam + t_d, with t_d
 from the calibration (timeshift_cam_imu) or estimated online (init_sigma_time_offset > 0)."""
 import os
@@ -137,7 +137,7 @@ def test_offset_within_half_ms_where_the_flight_turns_hard(tmp_path, preset):
 def test_offset_consistent_with_sensor_noise(tmp_path, offset, mode):
     """Sensor noise, a true +-10 ms offset with 0.5 ms frame jitter (camera_time_jitter told),
     vid17_like / vid18_like / fast_yaw: the mean NEES of t_d over the runs at 10, 15 and 19.5 s
-    is inside the two-sided 95 % chi^2 band (README table: 0.2-0.3 ms sigma with 20 mrad/s of gyro
+    is inside the two-sided 95 % chi^2 band (docs/notes/time-offset.md table: 0.2-0.3 ms sigma with 20 mrad/s of gyro
     noise per sample in the clone Jacobian was 2-27 ms off)."""
     args = ("--mode", "imu") if mode == "imu" else ()
     e, s = mc_runs(tmp_path, ["vid17_like", "vid18_like", "fast_yaw"], MC_SEEDS,

@@ -20,7 +20,7 @@ SEQ_S = 12.0  # rendered seconds of vid17_like_short (seed 1)
 
 # Known gap (issues 4 and 6): the world-frame force error on these 12 s is 0.12-0.13 m/s^2, not
 # <= 0.08: in the first seconds roll/pitch, the accelerometer bias and F_ext are only separated by
-# yaw turns (README "External-force accuracy"; analysis in tests/vio_core/test_sim_accuracy.cpp).
+# yaw turns (docs/notes/force-accuracy.md; analysis in tests/vio_core/test_sim_accuracy.cpp).
 # The strict xfails hold the issue's target and expect only TargetNotMet; the ratchets below hold
 # today's value.
 FORCE_GAP = target_not_met("open: world-frame force RMSE 0.12-0.13 m/s^2 > 0.08 (issues 4, 6)")

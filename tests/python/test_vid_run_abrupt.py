@@ -5,7 +5,7 @@ Each preset runs with the force-jump detection (the default) and without it (the
 before issue 17), feature level, fixed seed, random initial heading. Thresholds are the issue's
 acceptance values; those the estimator does not reach (force RMSE on rope_snap and impacts,
 settling after steps) are strict xfails with the measured numbers and the reason
-(README "Abrupt external forces"), each next to a ratchet at today's value (docs/testing.md).
+(docs/notes/abrupt-forces.md), each next to a ratchet at today's value (docs/testing.md).
 """
 import shutil
 

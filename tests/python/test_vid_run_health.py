@@ -49,7 +49,7 @@ def test_wrong_stereo_calibration_is_out_of_band(seq, tmp_path):
     T = np.array([float(x) for x in m.group(1).split(",")]).reshape(4, 4)
     T[:3, :3] = Rotation.from_euler("x", 1.0, degrees=True).as_matrix() @ T[:3, :3]
     yaml_path.write_text(text.replace(m.group(0), "data: [" + ", ".join(repr(float(x)) for x in T.ravel()) + "]"))
-    # The reset is off by default (README "Filter health"): turned on here.
+    # The reset is off by default (docs/notes/health.md): turned on here.
     cfg = tmp_path / "config"
     shutil.copytree(CONFIG, cfg)
     with open(cfg / "estimator.yaml", "a") as f:

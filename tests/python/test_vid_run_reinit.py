@@ -1,5 +1,5 @@
 """Issue 49: recovery from divergence without a restart (apps/vid_run/README.md "Exit codes",
-README "Recovery from divergence").
+docs/notes/recovery.md).
 
 vid17_like (30 s, features, seed 1, config/sim) with 2 s of garbage IMU samples (gyro and
 accelerometer N(0, 30) per axis) from 15 s: the estimator diverges (velocity beyond max_velocity)

@@ -4,7 +4,7 @@ rest, spin-up, lift-off, figure-8, touchdown, spin-down, rest), under the one se
 
 The estimator initializes on the ground from the data (no excitation), follows the ground
 reaction while landed, lift-off and touchdown without rejecting the accelerometer, and reports
-landed / airborne in summary.json (README "Flight phase"). Per-phase errors come from
+landed / airborne in summary.json (docs/notes/flight-phase.md). Per-phase errors come from
 `vid-eval force` with the simulator's phase0 stream (eval/README.md).
 """
 
@@ -83,7 +83,7 @@ def test_pose_and_airborne_force_are_followed_without_rejections(tmp_path_factor
 # Issue 29 acceptance not met: the landed force error after 1 s on the ground is above 0.1 m/s^2
 # RMSE (the 2 s rests leave ~1 s of it, next to the idle / spin-up and spin-down ramps the rate
 # model trails), and the attitude error reaches 2.2 deg on one run (the tilt of the static
-# initialization on the ground, from the accelerometer bias). README "Flight phase".
+# initialization on the ground, from the accelerometer bias). docs/notes/flight-phase.md.
 # Measured at 182d56e, per run (seeds 1 / 2 / 3 feature level, seed 1 images, and seeds 4 / 5
 # feature level for the spread): landed force RMSE 0.103 / 0.108 / 0.106 / 0.105 / 0.101 /
 # 0.111 m/s^2 (worst of the test's runs 0.108; mean + 3 sd = 0.117 is tighter than 1.2 x);

@@ -34,7 +34,7 @@ TEST(Presets, EurocIsImuModeWithPublishedCalibration) {
   const SystemConfig cfg = resolve_config(kConfig / "euroc", io::DatasetCalibration{});
   ASSERT_TRUE(cfg.preset_mode.has_value());
   EXPECT_EQ(*cfg.preset_mode, PropagationMode::kImu);
-  EXPECT_DOUBLE_EQ(cfg.estimator.init_sigma_time_offset, 0.005);  // real data: t_d online (#23, README)
+  EXPECT_DOUBLE_EQ(cfg.estimator.init_sigma_time_offset, 0.005);  // real data: t_d online (#23, docs/notes/time-offset.md)
   ASSERT_EQ(cfg.cameras.size(), 2u);
   const CameraCalib& c0 = cfg.cameras[0];
   const CameraCalib& c1 = cfg.cameras[1];
@@ -97,7 +97,7 @@ TEST(Presets, VidDatasetIsDynamicsModeWithPublishedCalibration) {
   EXPECT_DOUBLE_EQ(cfg.estimator.gyro_noise_density, 0.001);
   EXPECT_DOUBLE_EQ(cfg.estimator.accel_noise_density, 0.100);
   EXPECT_DOUBLE_EQ(cfg.estimator.imu_rate_hz, 400.0);
-  EXPECT_DOUBLE_EQ(cfg.estimator.init_sigma_time_offset, 0.005);  // real data: t_d online (#23, README)
+  EXPECT_DOUBLE_EQ(cfg.estimator.init_sigma_time_offset, 0.005);  // real data: t_d online (#23, docs/notes/time-offset.md)
   EXPECT_NE(cfg.sources.at("frontend"), "defaults");
 }
 

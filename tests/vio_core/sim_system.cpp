@@ -127,7 +127,7 @@ system::SystemParams sim_params(const io::DatasetCalibration& cal, PropagationMo
   p.mode = mode;
   p.init_mode = InitMode::kGroundTruth;
   // The ideal simulator's force model (exact thrust, smooth rope forces): the estimator's
-  // defaults before they became a real vehicle's (0.3, 1.0; README "Real sensors"); the
+  // defaults before they became a real vehicle's (0.3, 1.0; docs/notes/real-sensors.md); the
   // figures these tests hold were measured with it.
   p.force_random_walk = 0.02;
   p.force_rate_random_walk = 0.3;

@@ -1,4 +1,4 @@
-// Fixed-lag smoothing through force clones (README "Fixed-lag smoothing of the force"):
+// Fixed-lag smoothing through force clones (docs/notes/smoothing.md, docs/model.md eqs. (35)-(40)):
 // on a linear-Gaussian configuration of the filter (body-frame force with its rate, observed by
 // the accelerometer with its bias; no gyro noise, so nothing nonlinear couples in) a released
 // force clone equals the batch least-squares estimate over the same data, mean and covariance;

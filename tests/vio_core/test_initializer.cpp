@@ -139,7 +139,7 @@ TEST(StaticInit, VibratingMotionIsRefused) {
   EXPECT_NE(rock.last_rejection().find("not still"), std::string::npos) << rock.last_rejection();
   // Level, accelerating back and forth at 0.7 m/s^2, 2 Hz: the accelerometer spread shows it.
   // (Slower than the window, a steady horizontal acceleration looks like tilt to any IMU-only
-  // test, but for |a| > g: README "Initialization".)
+  // test, but for |a| > g: docs/notes/initialization.md.)
   StaticInitializer shake(p);
   EXPECT_FALSE(vibrating(shake, 4.0, [](double t) {
     return std::pair{Vector3d::Zero().eval(), Vector3d(0.7 * std::sin(4 * M_PI * t), 0.0, 9.81)};

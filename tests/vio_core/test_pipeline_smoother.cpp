@@ -1,4 +1,4 @@
-// Fixed-lag smoothing in the pipeline (README "Fixed-lag smoothing of the force") on analytic
+// Fixed-lag smoothing in the pipeline (docs/notes/smoothing.md) on analytic
 // synthetic sequences: the causal estimates are those of the filter without force clones (to
 // 1e-9), every causal estimate comes out smoothed once, the smoothed force covariance is at most
 // the causal one, and over a Monte-Carlo of seeds the smoothed force is more accurate and its

@@ -65,7 +65,7 @@ EstimateOutput apply_lag_anchor(const EstimateOutput& e, const LagAnchor& a, For
     s.F_ext_I += drag_I;
     s.F_ext_W = s.x.T_WI.q * s.F_ext_I;
   }
-  // The covariance reduction is the clone's, in the force frame (eq. S6); the other frame's
+  // The covariance reduction is the clone's, in the force frame (docs/model.md eq. (40)); the other frame's
   // reduction is mapped through the smoothed R_WI.
   const Eigen::Matrix3d R = s.x.T_WI.q.toRotationMatrix();
   if (frame == ForceFrame::kWorld) {

@@ -16,7 +16,7 @@ constexpr TimeNs kMaxSubstepNs = 10'000'000;  // 10 ms sub-steps over IMU gaps
 constexpr TimeNs kGtInitToleranceNs = 20'000'000;
 // Longest half window of the gyro fit in the time-offset clone Jacobian (rate_fit.h). 0.1 and 0.15 s
 // left t_d inconsistent on the gentle flights (NEES of single runs up to 81 and 51), with 0.25 s
-// the estimate still lagged more at 10 s than with 0.4 s (README "Camera-IMU time offset").
+// the estimate still lagged more at 10 s than with 0.4 s (docs/notes/time-offset.md).
 // Frames wait this long for the later gyro samples while t_d is estimated.
 constexpr TimeNs kTdRateHalfWindowNs = 400'000'000;
 // The shortest window rate_for_clone falls back to near an impact: 21 samples at 400 Hz.

@@ -56,7 +56,7 @@ void Pipeline::process_frame(const FeatureFrame& f, TimeNs stamp, const Eigen::V
 
   // The clone's time-offset Jacobian [w_I; v]: the rate fitted to the gyro, and no velocity.
   // The position path carries next to no information on t_d here (the rotation path alone
-  // predicts the filter's sigma, README), while the filter's velocity, corrected at every frame,
+  // predicts the filter's sigma, docs/notes/time-offset.md), while the filter's velocity, corrected at every frame,
   // put frame-to-frame noise into it that read as information (t_d NEES per run up to 180 with
   // it, 0.2-5 without). The pose is still taken at t_cam + t_d_hat; only the coupling is left out.
   state_.augment_clone({w_I, Eigen::Vector3d::Zero(), p.camera_time_jitter});

@@ -1,6 +1,6 @@
 /// @file pipeline_init.cpp
 /// @brief The pipeline while it waits for initialization from its own sensors (init_mode
-/// static / auto; README "Initialization").
+/// static / auto; docs/notes/initialization.md).
 #include "vio_core/pipeline.h"
 
 namespace vid {

@@ -1,7 +1,7 @@
 /// @file pipeline_smoother.cpp
 /// @brief The pipeline's fixed-lag smoothing: force clones taken at camera frames, released
-/// after smoother_lag_s as anchors of the smoothed outputs (README "Fixed-lag smoothing of the
-/// force"; the bookkeeping is FilterState's, the outputs fixed_lag.h's).
+/// after smoother_lag_s as anchors of the smoothed outputs (docs/notes/smoothing.md; the
+/// bookkeeping is FilterState's, the outputs fixed_lag.h's).
 #include <optional>
 
 #include "vio_core/fixed_lag.h"

@@ -100,7 +100,7 @@ void FilterState::marginalize_oldest_clone() {
 
 void FilterState::augment_force_clone() {
   if (!layout_.force) throw std::logic_error("FilterState::augment_force_clone needs the F_ext state");
-  const int n = covariance::append_clone(P_, imu_idx::kF, 3);  // x_aug = [x; J x], J selects dF_ext (README eq. S1)
+  const int n = covariance::append_clone(P_, imu_idx::kF, 3);  // x_aug = [x; J x], J selects dF_ext (docs/model.md eq. (35))
   ForceClone c;
   c.t_ns = t_ns_;
   c.F_ext = imu_.F_ext;

@@ -263,7 +263,7 @@ int main(int argc, char **argv) {
   set("verbosity", "\"" + verbosity + "\"");
   // Camera-IMU time offset. OpenVINS: calib_dt_CAMtoIMU with t_imu = t_cam + t_off (State.h,
   // Propagator: clones at t_cam + t_off on the IMU clock), read from cam0's timeshift_cam_imu;
-  // Kalibr's and ours (README "Camera-IMU time offset"): t_imu = t_cam + t_d. Same sign, so our
+  // Kalibr's and ours (docs/notes/time-offset.md): t_imu = t_cam + t_d. Same sign, so our
   // calibrated value is its starting value as it is. Estimated online only with
   // --est-time-offset (its initial sigma: 10 ms, State.cpp).
   if (est_time_offset) set("calib_cam_timeoffset", "true");

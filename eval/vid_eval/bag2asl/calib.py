@@ -64,7 +64,7 @@ class Preset:
 
 
 def mass_for(bag_path: pathlib.Path, flag: float | None, preset: Preset) -> tuple[float, str]:
-    """(mass kg, how it was found). Rule (README "Mass rule"): --mass; known VID sequence
+    """(mass kg, how it was found). Rule (bag2asl/README.md "Mass rule"): --mass; known VID sequence
     (published file name or 'N' / 'vidN' / 'seqN' / 'sequence_N'); '<grams>g' in the name plus
     any 'load<grams>g'; else the preset's vehicle.yaml mass (with a warning by the caller)."""
     if flag is not None:

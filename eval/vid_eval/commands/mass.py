@@ -1,4 +1,4 @@
-"""``vid-eval mass EST GT``: RMSPE (seed eq. 48) and RMSE of a mass estimate, JSON and plot."""
+"""``vid-eval mass EST GT``: RMSPE (docs/model.md eq. (56)) and RMSE of a mass estimate, JSON and plot."""
 from __future__ import annotations
 
 import argparse

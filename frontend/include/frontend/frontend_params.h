@@ -29,7 +29,7 @@ struct FrontendParams {
   /// below: a dark, high-gain camera (dark_room: sigma ~11 levels) at the fixed 20 / 7 takes
   /// mostly noise corners. Off by default: at 3 it also raises the retry threshold of
   /// moderately noisy images with plain surfaces (vid17_hard: 7 -> 8), which cost 22 % ATE
-  /// there (README "Frontend: FAST thresholds and image noise").
+  /// there (docs/notes/frontend.md, "FAST thresholds and image noise").
   double fast_noise_factor = 0.0;
   double min_distance_px = 12;  ///< minimum distance between features [px]
   int border_px = 8;            ///< features closer to the image edge are dropped [px]

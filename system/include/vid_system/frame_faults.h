@@ -1,6 +1,6 @@
 #pragma once
 /// @file frame_faults.h
-/// @brief The one policy for recoverable data faults (README "Bad input"): a camera frame whose
+/// @brief The one policy for recoverable data faults (docs/errors.md): a camera frame whose
 /// image is missing, unreadable or of the wrong size is skipped with one warning line naming
 /// the file and the fault (the first kLines faults; the rest in one line with the counts when
 /// the run ends) and counted; under strict every such fault is an error instead.

@@ -73,7 +73,7 @@ class RunOutputs {
  public:
   /// @param write_force  false in imu mode (force.csv then holds only its header)
   /// @param mass_kg  the calibration's mass m0 when the thrust scale s is estimated: mass.csv
-  /// then holds s and the mass it implies, m = m0 / s (README "Mass state")
+  /// then holds s and the mass it implies, m = m0 / s (docs/notes/mass-state.md)
   /// @param time_offset  the time offset is estimated: time_offset.csv (t, t_d [s], sigma [s])
   RunOutputs(const std::filesystem::path& out_dir, bool write_force, std::optional<double> mass_kg = std::nullopt,
              bool time_offset = false);
@@ -83,7 +83,7 @@ class RunOutputs {
   void write_pose(const TimedPose& pose);
   void write_timing(const TimingRow& row);
   /// @brief A comment line in trajectory_tum.txt before the first estimate after a
-  /// re-initialization (README "Recovery from divergence"): from @p t_ns on, a new world frame.
+  /// re-initialization (docs/notes/recovery.md): from @p t_ns on, a new world frame.
   void mark_reinitialization(TimeNs t_ns);
   void close();
 
@@ -96,7 +96,7 @@ class RunOutputs {
 };
 
 /// @brief trajectory_smoothed_tum.txt and force_smoothed.csv (fixed-lag smoothed estimates,
-/// README "Fixed-lag smoothing of the force"): the formats of trajectory_tum.txt and force.csv.
+/// docs/notes/smoothing.md): the formats of trajectory_tum.txt and force.csv.
 class SmoothedOutputs {
  public:
   explicit SmoothedOutputs(const std::filesystem::path& out_dir);

@@ -85,7 +85,7 @@ class System {
   void finish();
   /// @brief Replace the estimator (and tracker) by fresh ones after divergence; outputs,
   /// counters and metrics continue. The new one initializes from the data, as init_mode `auto`
-  /// where the config says `static` (README "Recovery from divergence").
+  /// where the config says `static` (docs/notes/recovery.md).
   void restart();
 
   // --- Observers ------------------------------------------------------------------------------

@@ -1,7 +1,8 @@
 #pragma once
 /// @file accel_noise.h
 /// @brief Vibration-aware accelerometer noise of the dynamics-mode update: covariance matching
-/// on the innovations (Mehra 1972; Mohamed & Schwarz 1999), README "Real sensors".
+/// on the innovations (Mehra 1972; Mohamed & Schwarz 1999), docs/model.md eqs. (19)-(21),
+/// docs/notes/real-sensors.md.
 ///
 /// A real multirotor's accelerometer carries rotor vibration that comes and goes with the rotor
 /// speeds and in bursts (docs/real_sensors.md): a fixed noise density is either far too low in

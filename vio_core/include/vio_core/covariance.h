@@ -3,7 +3,7 @@
 /// @brief The project's one covariance bookkeeping on a joint error-state covariance P whose
 /// leading block is the propagated state and whose later blocks (clones, calibration) stay put
 /// between updates: propagation of the leading block with its cross-covariances, stochastic
-/// cloning (seed eqs. 9-10), marginalization and insertion of a variable. Used by vio_core's
+/// cloning (docs/model.md eq. (27)), marginalization and insertion of a variable. Used by vio_core's
 /// FilterState and by the mass-identification window MSCKF (dynamics/massid).
 ///
 /// Every function acts on the used top-left n x n part of P (n = `used`); P may be larger (the
@@ -37,7 +37,7 @@ void propagate_leading(Eigen::MatrixXd& P, int used, const Eigen::MatrixBase<Der
   }
 }
 
-/// @brief Stochastic cloning in place (seed eqs. 9-10): the error states [first, first + k) are
+/// @brief Stochastic cloning in place (docs/model.md eq. (27)): the error states [first, first + k) are
 /// copied to [used, used + k) of P's storage, P_aug = [P, P J^T; J P, J P J^T] with J selecting
 /// them. P must already hold used + k rows and columns.
 inline void clone_into(Eigen::MatrixXd& P, int used, int first, int k) {

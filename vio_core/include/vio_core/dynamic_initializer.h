@@ -1,7 +1,7 @@
 #pragma once
 /// @file dynamic_initializer.h
 /// @brief In-flight initialization from a short window of stereo frames and IMU samples
-/// (README "Initialization", init_mode auto): gravity direction, velocity, accelerometer and
+/// (docs/notes/initialization.md, init_mode auto): gravity direction, velocity, accelerometer and
 /// gyro bias of the last frame from inertial_alignment.h, with their covariance; position and
 /// yaw the gauge as in the static initializer, in dynamics mode the
 /// external force from the last 0.1 s of a - b_a - T/m.

@@ -33,7 +33,7 @@ UpdateResult ekf_update_columns(FilterState& state, const std::vector<int>& cols
                                 const Eigen::MatrixXd& H_cols, const Eigen::VectorXd& r,
                                 const Eigen::MatrixXd& R, double chi2_threshold = 0.0);
 
-/// @brief Predicted accelerometer reading of dynamics mode (seed eq. 58): s T_m + F_I + b_a, with
+/// @brief Predicted accelerometer reading of dynamics mode (docs/model.md eq. (14)): s T_m + F_I + b_a, with
 /// F_I = R_WI^T F_W in the world-frame force model and s = x.thrust_scale (1 when not estimated).
 /// A non-zero linear_drag D adds the body drag -diag(D) R_WI^T v_WI (docs/design.md §3).
 Eigen::Vector3d predict_accel(const ImuState& x, const Eigen::Vector3d& T_m,

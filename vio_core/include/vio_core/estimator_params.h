@@ -23,7 +23,7 @@ enum class InitMode {
 /// @brief Frame in which the external-force state F_ext lives and follows its random walk.
 /// Outputs always give the force in both frames.
 enum class ForceFrame {
-  kBody,   ///< F_ext in I (seed eq. 58): turns with the vehicle, a yaw turn moves all of it
+  kBody,   ///< F_ext in I (docs/model.md eq. (14)): turns with the vehicle, a yaw turn moves all of it
   kWorld,  ///< F_ext in W: ropes, wind and payload weight stay put while the vehicle yaws
 };
 
@@ -62,8 +62,8 @@ struct EstimatorParams {
   // flight (0.3, 1.0) keeps the force NEES in the 95 % band 91 % of the time (the simulator's
   // (0.02, 0.3): 44 %, body force 0.186 -> 0.139 m/s^2). The simulator's vehicle has exact
   // thrust and smooth rope forces: config/sim sets (0.02, 0.5) (world force RMSE 0.130 / 0.206
-  // on full-length vid17/vid18_like with (0.02, 0.3); README "External-force accuracy",
-  // "Real sensors").
+  // on full-length vid17/vid18_like with (0.02, 0.3); docs/notes/force-accuracy.md,
+  // docs/notes/real-sensors.md).
   double force_random_walk = 0.3;        ///< F_ext random walk [m/s^3/sqrt(Hz)]
   ForceFrame force_frame = ForceFrame::kWorld;  ///< frame of the F_ext state
   /// > 0 adds the force rate dF_ext/dt to the state, driven by this random walk
@@ -71,7 +71,7 @@ struct EstimatorParams {
   double force_rate_random_walk = 1.0;
   /// > 0 adds the thrust scale s to the state (a = s T_m + F_ext + b_a: s = m0 k / (m k0), a
   /// payload picked up or dropped, or a thrust coefficient off; mass and coefficient scale are
-  /// one observable), driven by this random walk [1/sqrt(s)]; 0 = off. README "Mass state".
+  /// one observable), driven by this random walk [1/sqrt(s)]; 0 = off. docs/notes/mass-state.md.
   double thrust_scale_random_walk = 0.0;
   /// Rotor telemetry latency [s]: a rotor / thrust sample stamped t is the thrust at t - delay
   /// (it reaches the estimator that much later; the IMU waits for it up to rotor_gap_s).
@@ -97,7 +97,7 @@ struct EstimatorParams {
   /// chi2 sits at the gate: influence bounded, nothing dropped) instead of rejected. With a
   /// Gaussian accelerometer the 99% gate otherwise throws away 1% of good samples, on the
   /// ground and in flight alike; a true spike still moves the state no more than a sample at
-  /// the gate. README "Accelerometer gate".
+  /// the gate. docs/notes/accel-gate.md.
   bool accel_gate_downweight = true;
   // Abrupt forces (vio_core/force_jump.h): GLR step test on the accelerometer innovations over
   // the last 2 .. force_jump_window samples; a detection re-estimates F from them.
@@ -108,7 +108,7 @@ struct EstimatorParams {
   /// Smallest step [m/s^2] treated as a jump; smaller ones are followed by the force(-rate)
   /// random walk. 0 = any size. On the Blackbird real flight every one of its 361 "jumps"
   /// (0.13-0.56 m/s^2) was rotor vibration or thrust-model error; the presets' steps are >= 2
-  /// m/s^2 and no ideal preset changes with 1.0 (README "Real sensors").
+  /// m/s^2 and no ideal preset changes with 1.0 (docs/notes/real-sensors.md).
   double force_jump_min_step = 1.0;
   // Flight phase (vio_core/flight_phase.h): landed while the estimated upward external force
   // (the ground reaction) carries at least this fraction of the weight, airborne below the
@@ -117,7 +117,7 @@ struct EstimatorParams {
   double airborne_weight_fraction = 0.25;  ///< airborne once it falls below this fraction (< landed_weight_fraction)
   double flight_phase_hold_s = 0.1;      ///< [s]
 
-  // --- fixed-lag smoothing (dynamics mode; README "Fixed-lag smoothing of the force") ---
+  // --- fixed-lag smoothing (dynamics mode; docs/notes/smoothing.md) ---
   /// > 0: stochastic clones of F_ext are kept in the state for this lag [s] and corrected by
   /// every later accelerometer and visual update through their cross-covariances (a Kalman
   /// filter on the augmented state is the fixed-lag smoother of those times); the smoothed
@@ -158,7 +158,7 @@ struct EstimatorParams {
   /// while the rotors spin up or down. 0 = off. A tighter 0.005 m/s (what a vehicle on its legs
   /// really moves) gains 30 % on the landed force but makes the tilt / accelerometer-bias pair
   /// overconfident on the ground and costs up to 2x airborne force error after lift-off
-  /// (README "Flight phase").
+  /// (docs/notes/flight-phase.md).
   double landed_zero_velocity_sigma = 0.02;
 
   // --- health (vio_core/health_monitor.h) ---
@@ -178,7 +178,7 @@ struct EstimatorParams {
   // --- initialization ---
   /// auto: the still/hover window when there is one, in flight from init_dynamic_window_s of
   /// stereo frames otherwise; static: only the window; groundtruth: evaluation only.
-  /// README "Initialization".
+  /// docs/notes/initialization.md.
   InitMode init_mode = InitMode::kAuto;
   double init_window_s = 0.5;            ///< averaging window for static/hover init
   /// The still/hover test judges the spread of init_lowpass_s moving averages of the samples
@@ -202,11 +202,11 @@ struct EstimatorParams {
   /// > 0 estimates the camera-IMU time offset t_d (t_imu = t_cam + t_d) online, starting from
   /// cam0's calibrated timeshift_cam_imu with this sigma [s]; 0: t_d fixed at the calibration's
   /// value. While estimated, every frame waits 0.4 s for the gyro samples after it (outputs come
-  /// that much later). README "Camera-IMU time offset".
+  /// that much later). docs/notes/time-offset.md.
   double init_sigma_time_offset = 0.0;
   /// 1-sigma noise of each frame's timestamp against the IMU clock [s] (trigger / exposure
   /// jitter, independent per frame): the pose change over it is added to every clone as noise.
-  /// README "Camera-IMU time offset".
+  /// docs/notes/time-offset.md.
   double camera_time_jitter = 0.0;
 
   // --- divergence detection ---

@@ -1,15 +1,15 @@
 #pragma once
 /// @file fixed_lag.h
 /// @brief Fixed-lag smoothed outputs of the force (and pose) from the filter's force clones
-/// (FilterState::augment_force_clone; README "Fixed-lag smoothing of the force", eqs. S1-S6).
+/// (FilterState::augment_force_clone; docs/notes/smoothing.md, docs/model.md eqs. (35)-(40)).
 ///
 /// A force clone taken at camera time t_k is corrected by every later update through its
 /// cross-covariance; when it leaves the window (t_k + lag) it is the smoothed estimate
 /// F(t_k | t_k + lag). Its correction against the causal estimate of t_k (the clone's value
-/// and covariance right after the frame at t_k was processed, eq. S4) is an anchor; the
+/// and covariance right after the frame at t_k was processed, eq. (38)) is an anchor; the
 /// pose anchor is the pose clone of the same time, read when the force clone leaves or, if the
 /// MSCKF window dropped it earlier, when it was marginalized (pose lag min(lag, window)).
-/// IMU-rate estimates between two anchors get the linearly interpolated correction (eq. S5).
+/// IMU-rate estimates between two anchors get the linearly interpolated correction (eq. (39)).
 
 #include <Eigen/Core>
 #include <deque>
@@ -71,7 +71,7 @@ class FixedLagOutput {
 };
 
 /// @brief Apply @p a (force frame @p frame) to a causal estimate: F_ext, T_WI, the force in
-/// both frames and its covariance (eq. S5 with the anchor's values).
+/// both frames and its covariance (eqs. (39)-(40) with the anchor's values).
 EstimateOutput apply_lag_anchor(const EstimateOutput& e, const LagAnchor& a, ForceFrame frame);
 
 /// @brief The anchor at time t between a and b (linear in time; b alone if t >= b.t_ns,

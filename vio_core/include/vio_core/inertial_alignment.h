@@ -1,8 +1,8 @@
 #pragma once
 /// @file inertial_alignment.h
-/// @brief The math of the in-flight initializer (dynamic_initializer.h; README
-/// "Initialization"): over a window of camera frames k = 0..K, with all quantities in the IMU
-/// frame I_K of the last frame,
+/// @brief The math of the in-flight initializer (dynamic_initializer.h;
+/// docs/notes/initialization.md, docs/model.md eqs. (43)-(45)): over a window of camera frames
+/// k = 0..K, with all quantities in the IMU frame I_K of the last frame,
 ///   1. gyro-integrated rotations R_Kk and the accelerometer's double integrals
 ///      alpha_k = int_{t_K}^{t_k} (t_k - u) R_K(u) a(u) du (integrate_window);
 ///   2. the frame positions p_k (p_K = 0) and landmarks from the stereo bearings with the

@@ -1,7 +1,7 @@
 #pragma once
 /// @file kalman.h
-/// @brief The project's one Kalman correction (seed eqs. 6-8; 13-14 for stacked clones, 17 for
-/// sigma-point moments), for fixed- and dynamic-size matrices. Every filter uses it: vio_core's
+/// @brief The project's one Kalman correction (docs/model.md eqs. (17)-(18); also for stacked
+/// clones, eq. (51), and sigma-point moments, eq. (54)), for fixed- and dynamic-size matrices. Every filter uses it: vio_core's
 /// EKF updates (ekf_update.h: visual, accelerometer, zero-velocity, force-jump) and the
 /// mass-identification EKF, UKF and window MSCKF (dynamics/massid).
 ///
@@ -92,7 +92,7 @@ void subtract_outer(Eigen::MatrixBase<DerivedP>& P, const Eigen::MatrixBase<Deri
 
 /// @brief One whole Kalman correction on a plain covariance: with the state-measurement
 /// cross-covariance P_xy and the innovation covariance S of residual r, *dx = K r and
-/// P <- P - K S K^T (seed eqs. 6-8).
+/// P <- P - K S K^T (docs/model.md eq. (17)).
 /// @return false (P unchanged, dx zero) when S is not positive definite.
 template <typename DerivedP, typename DerivedPxy, int M, typename VecX>
 bool kalman_correct(Eigen::MatrixBase<DerivedP>& P, const Eigen::MatrixBase<DerivedPxy>& P_xy,

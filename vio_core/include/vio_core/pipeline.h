@@ -109,7 +109,7 @@ struct FlightPhaseRecord {
   FlightPhase to = FlightPhase::kUnknown;  ///< kAirborne: lift-off, kLanded: touchdown
 };
 
-/// @brief An initialization (README "Initialization"): how and when.
+/// @brief An initialization (docs/notes/initialization.md): how and when.
 struct InitRecord {
   TimeNs t_ns = 0;
   std::string how;  ///< "still" (still/hover window), "in_flight" (stereo window), "groundtruth"
@@ -151,7 +151,7 @@ struct PipelineCounters {
   /// Largest fraction of tested features that failed the chi2 gate over one health window
   /// (windows with at least health_min_tested_features); the out-of-band test's margin.
   double max_chi2_rejected_fraction = 0.0;
-  /// Noise fit (README "Noise that does not fit the data"): per body axis, the sum of the
+  /// Noise fit (docs/notes/real-sensors.md, "Noise that does not fit the data"): per body axis, the sum of the
   /// accelerometer innovations' r_i^2 / S_ii (mean 1 when the noise model fits) ...
   Eigen::Vector3d accel_nis_sum = Eigen::Vector3d::Zero();
   long accel_nis_count = 0;
@@ -172,7 +172,7 @@ class Pipeline {
   void set_estimate_callback(std::function<void(const EstimateOutput&)> cb) { on_estimate_ = std::move(cb); }
   void set_frame_callback(std::function<void(const FrameTimings&)> cb) { on_frame_ = std::move(cb); }
   /// @brief With smoother_lag_s > 0 (dynamics mode): every IMU-rate estimate again, smoothed
-  /// (README "Fixed-lag smoothing of the force"), about smoother_lag_s + smoother_clone_period_s
+  /// (docs/notes/smoothing.md), about smoother_lag_s + smoother_clone_period_s
   /// after its time (the rest at finish()). Fields as the causal estimate's; x.F_ext, T_WI,
   /// F_ext_I/W and cov_F_I/W carry the smoothed values.
   void set_smoothed_callback(std::function<void(const EstimateOutput&)> cb) { on_smoothed_ = std::move(cb); }

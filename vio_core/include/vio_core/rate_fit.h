@@ -29,7 +29,7 @@ struct AdaptiveRate {
 /// to @p min_half_window_ns whose residual is white noise (max = min: one fixed window).
 ///
 /// Why a fit and not the sample nearest the frame: the time offset is learned from how the rate
-/// changes between clones (README "Camera-IMU time offset"), a few mrad/s at 0.1 rad/s^2. One
+/// changes between clones (docs/notes/time-offset.md), a few mrad/s at 0.1 rad/s^2. One
 /// sample of the seed's gyro carries 20 mrad/s of white noise; in the clone Jacobian that noise
 /// reads as information the images never gave (t_d locked ms away with a sigma of 0.3 ms). A fit
 /// over +-0.4 s leaves ~1.5 mrad/s, correlated from clone to clone, which the estimate tolerates.

@@ -94,8 +94,8 @@ struct CloneState {
   int cov_index = -1;  ///< column of [dtheta, dp] in P
 };
 
-/// @brief Stochastic clone of F_ext at a camera time (fixed-lag smoothing, README "Fixed-lag
-/// smoothing of the force"): later updates correct it through its cross-covariance, so while it
+/// @brief Stochastic clone of F_ext at a camera time (fixed-lag smoothing,
+/// docs/notes/smoothing.md): later updates correct it through its cross-covariance, so while it
 /// is kept it is the smoothed estimate of the force at its time.
 struct ForceClone {
   TimeNs t_ns = 0;
@@ -123,7 +123,7 @@ struct CovarianceHealth {
   double max_asymmetry = 0.0;  ///< max |P - P^T| before symmetrization
 };
 
-/// @brief How a frame's true time relates to its clone's (README "Camera-IMU time offset").
+/// @brief How a frame's true time relates to its clone's (docs/notes/time-offset.md).
 struct CloneTiming {
   Eigen::Vector3d w_I = Eigen::Vector3d::Zero();   ///< body rate at the clone's time (Pipeline::rate_for_clone)
   Eigen::Vector3d v_td_W = Eigen::Vector3d::Zero();  ///< world velocity in the t_d coupling
@@ -189,7 +189,7 @@ class FilterState {
   void marginalize_oldest_clone();
 
   /// @brief Add a clone of the current F_ext at the current time: P grows by 3 with the clone
-  /// fully correlated to F_ext (README eq. S1). Needs the force state (throws std::logic_error).
+  /// fully correlated to F_ext (docs/model.md eq. (35)). Needs the force state (throws std::logic_error).
   void augment_force_clone();
   /// @brief Remove the oldest force clone (marginalize: drop its rows/cols). No-op without one.
   void marginalize_oldest_force_clone();

@@ -41,7 +41,7 @@ std::unique_ptr<MassEstimator> train_data_driven(const std::string& method,
                                                  const std::vector<const MassIdRun*>& training,
                                                  const DataDrivenOptions& options);
 
-/// @brief Root-mean-square percentage error [%] (seed eq. 48):
+/// @brief Root-mean-square percentage error [%] (docs/model.md eq. (56)):
 /// sqrt(mean(((m_hat - m) / m)^2)) * 100.
 /// @throws std::invalid_argument on empty or unequal-length input
 double rmspe(const std::vector<double>& m_hat, const std::vector<double>& m);

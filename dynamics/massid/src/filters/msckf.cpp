@@ -1,5 +1,5 @@
 /// @file msckf.cpp
-/// @brief Window MSCKF of the mass study (seed eqs. 9-14).
+/// @brief Window MSCKF of the mass study (docs/model.md eqs. (27), (51), (17)).
 #include "massid/filters/msckf.h"
 
 #include <stdexcept>

@@ -1,5 +1,5 @@
 /// @file quadrotor_mass_model.cpp
-/// @brief Seed eq. 47: discrete propagation (exact for a held input) and its Jacobians.
+/// @brief docs/model.md eq. (55): discrete propagation (exact for a held input) and its Jacobians.
 #include "massid/filters/quadrotor_mass_model.h"
 
 #include <cmath>

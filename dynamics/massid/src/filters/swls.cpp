@@ -1,5 +1,5 @@
 /// @file swls.cpp
-/// @brief Sliding-window least squares on Ceres (seed eqs. 18-23, 50-54): one parameter block
+/// @brief Sliding-window least squares on Ceres (docs/model.md eqs. (57)-(59)): one parameter block
 /// per window state with a right-perturbation manifold, auto-differentiated residuals from
 /// swls_residuals.h, and a Schur-complement marginalization prior.
 #include "massid/filters/swls.h"

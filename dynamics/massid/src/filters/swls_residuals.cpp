@@ -1,5 +1,5 @@
 /// @file swls_residuals.cpp
-/// @brief Pre-integration (seed eqs. 50-52) and residual weights of the SWLS.
+/// @brief Pre-integration (docs/model.md eq. (58)) and residual weights of the SWLS.
 #include "massid/filters/swls_residuals.h"
 
 #include <Eigen/Cholesky>

@@ -1,5 +1,5 @@
 /// @file tuning.cpp
-/// @brief Noise covariances of the model-based methods (eq. 1 n_x, eq. 2 n_y).
+/// @brief Noise covariances of the model-based methods (docs/model.md eq. (49): n_x, n_y).
 #include "massid/filters/tuning.h"
 
 #include <algorithm>

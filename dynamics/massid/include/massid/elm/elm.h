@@ -1,7 +1,7 @@
 #pragma once
 /// @file elm.h
 /// @brief Extreme learning machine (seed section 4.2.5, Algorithm 1) and its regularized
-/// form RELM (seed eq. 29): one hidden layer of sigmoid nodes with seeded random input
+/// form RELM (docs/model.md eq. (60)): one hidden layer of sigmoid nodes with seeded random input
 /// weights and biases, output weights by linear least squares.
 ///
 /// Notation (seed): inputs X (N x d, one sample per row), hidden-layer output
@@ -50,7 +50,7 @@ class HiddenLayer {
 /// @throws std::invalid_argument when H and T have different row counts or are empty
 Eigen::MatrixXd solve_elm(const Eigen::MatrixXd& H, const Eigen::MatrixXd& T);
 
-/// @brief RELM output weights, seed eq. 29: beta = (H^T H + lambda I)^-1 H^T T, evaluated as
+/// @brief RELM output weights, docs/model.md eq. (60): beta = (H^T H + lambda I)^-1 H^T T, evaluated as
 /// a Cholesky (LLT) solve of the symmetric positive-definite normal equations. The Gram
 /// matrix is formed as a symmetric rank-N update (half the flops of a general product).
 /// @param lambda  ridge weight (> 0)

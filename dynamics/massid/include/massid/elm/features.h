@@ -21,7 +21,8 @@
 /// m (v_k - v_j) = int (T z_I - m g e_z) dt, so the network learns the map from thrust and
 /// acceleration to mass. Short windows follow mass steps quickly but carry the velocity noise
 /// (sqrt(2) sigma_v / D), long ones are smooth but lag a step by D; the network weighs them.
-/// The windows were chosen on held-out runs of the study (README, "Data-driven methods").
+/// The windows were chosen on held-out runs of the study (dynamics/massid/README.md,
+/// "Data-driven methods").
 
 #include <Eigen/Core>
 #include <deque>

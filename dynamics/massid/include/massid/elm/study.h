@@ -41,7 +41,7 @@ class RunCache {
 
 /// @brief Score of a model on held-out runs.
 struct HeldOutScore {
-  double rmse_percent = 0.0;       ///< RMSPE (seed eq. 48) pooled over test samples that have
+  double rmse_percent = 0.0;       ///< RMSPE (docs/model.md eq. (56)) pooled over test samples that have
                                    ///< features (after the first longest-window seconds)
   double rmse_full_percent = 0.0;  ///< same over every sample, the warm-up at the initial guess
   long samples = 0;

@@ -1,8 +1,8 @@
 #pragma once
 /// @file ekf.h
-/// @brief On-manifold EKF over any ManifoldSystem (seed eqs. 3-8): predict
-/// x^- = f(x, u), P^- = F P F^T + Q (eqs. 3-4); update r = y ⊟ h(x^-), K = P H^T S^-1,
-/// x = x^- ⊞ K r, P = (I - K H) P^- (eqs. 5-8), the correction being vio_core's one
+/// @brief On-manifold EKF over any ManifoldSystem (docs/model.md eq. (50)): predict
+/// x^- = f(x, u), P^- = F P F^T + Q; update r = y ⊟ h(x^-), K = P H^T S^-1,
+/// x = x^- ⊞ K r, P = (I - K H) P^-, the correction being vio_core's one
 /// kalman_correct (vio_core/kalman.h).
 
 #include <Eigen/Core>
@@ -29,13 +29,13 @@ class ManifoldEkf {
     x_ = x0;
     P_ = P0;
   }
-  /// @brief Eqs. 3-4 with additive discrete process noise Q (eq. 1's n_x).
+  /// @brief Prediction of eq. (50) with additive discrete process noise Q (eq. (49)'s n_x).
   void predict(const typename Model::Input& u, double dt, const StateCov& Q) {
     const StateCov F = model_.state_jacobian(x_, u, dt);
     x_ = model_.propagate(x_, u, dt);
     P_ = F * P_ * F.transpose() + Q;
   }
-  /// @brief Eqs. 5-8 with measurement noise R (eq. 2's n_y). @return false if S is singular.
+  /// @brief Update of eq. (50) with measurement noise R (eq. (49)'s n_y). @return false if S is singular.
   bool update(const typename Model::Meas& y, const MeasCov& R) {
     const Eigen::Matrix<double, M, N> H = model_.measurement_jacobian(x_);
     const Eigen::Matrix<double, M, 1> r = Model::meas_boxminus(y, model_.measure(x_));

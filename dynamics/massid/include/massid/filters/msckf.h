@@ -1,10 +1,10 @@
 #pragma once
 /// @file msckf.h
-/// @brief MSCKF-style mass filter (seed eqs. 9-14): the current state [q, p, v, m] is
+/// @brief MSCKF-style mass filter (docs/model.md eqs. (27), (51), (17)): the current state [q, p, v, m] is
 /// propagated like the EKF, and at every sample a stochastic clone of [q, p, v] is appended
-/// (eq. 9-10: P_aug = J P J^T). When the window holds W clones, all W measurements
-/// y_j = [q, p, v]_j are stacked (eq. 11-12: H = [0 | I_9W]) and applied in one update
-/// (eqs. 13-14); the clones are then marginalized and a new window starts.
+/// (eq. (27): P_aug = J P J^T). When the window holds W clones, all W measurements
+/// y_j = [q, p, v]_j are stacked (eq. (51): H = [0 | I_9W]) and applied in one update
+/// (eq. (17)); the clones are then marginalized and a new window starts.
 ///
 /// Because every clone is dropped right after the update, only the current-state rows of the
 /// gain are formed: vio_core's kalman_correct with P_xy = P_xc and S = P_cc + R (exactly the

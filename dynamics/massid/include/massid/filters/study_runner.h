@@ -2,7 +2,7 @@
 /// @file study_runner.h
 /// @brief Runs mass-identification methods over a study dataset (seed section 5.3): picks the
 /// evaluated runs per trajectory x mass profile, feeds every sample to each method, times
-/// each update() and scores the estimates with RMSPE (eq. 48). Parallel over runs.
+/// each update() and scores the estimates with RMSPE (docs/model.md eq. (56)). Parallel over runs.
 
 #include <cstdint>
 #include <functional>

@@ -1,8 +1,8 @@
 #pragma once
 /// @file swls.h
-/// @brief Sliding-window least squares for the mass (seed eqs. 18-23, 50-54) on Ceres:
+/// @brief Sliding-window least squares for the mass (docs/model.md eqs. (57)-(59)) on Ceres:
 /// window states [q, p, v, m]_k, pre-integrated dynamic residuals, measurement residuals and
-/// a marginalization prior (Schur complement of the dropped state, eqs. 22-23). Ceres stays
+/// a marginalization prior (Schur complement of the dropped state, eq. (57)). Ceres stays
 /// private to the library (pimpl).
 
 #include <memory>

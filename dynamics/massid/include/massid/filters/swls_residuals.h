@@ -1,19 +1,19 @@
 #pragma once
 /// @file swls_residuals.h
-/// @brief Residuals of the sliding-window least squares (seed eqs. 18-23, 50-54), templated
+/// @brief Residuals of the sliding-window least squares (docs/model.md eqs. (57)-(59)), templated
 /// on the scalar so Ceres can differentiate them. A window state is stored as 11 ambient
 /// numbers [qx, qy, qz, qw, p_WI (3), v_WI (3), m] (q_WI in Eigen's coefficient order); its
 /// tangent is the model's error state [dtheta, dp, dv, dm] with q = q_hat ⊗ exp(dtheta/2).
 ///
-/// Pre-integration between window states i and j (eqs. 50-52), thrust in N (the mass is
+/// Pre-integration between window states i and j (eq. (58)), thrust in N (the mass is
 /// constant over the interval, so it factors out), in the body frame of state i:
 ///   gamma_{k+1} = gamma_k Exp(w_k dt),  beta_{k+1} = beta_k + T_k gamma_k J_l(w_k dt) e3 dt,
 ///   alpha_{k+1} = alpha_k + beta_k dt + T_k gamma_k G2(w_k dt) e3 dt^2.
-/// Dynamic residual (eqs. 53-54), whitened by the pre-integrated process covariance:
+/// Dynamic residual (eq. (59)), whitened by the pre-integrated process covariance:
 ///   r_theta = Log((q_i ⊗ gamma)^-1 ⊗ q_j),
 ///   r_p = R_i^T (p_j - p_i - v_i Dt - g Dt^2 / 2) - alpha / m_i,
 ///   r_v = R_i^T (v_j - v_i - g Dt) - beta / m_i,  r_m = m_j - m_i.
-/// Measurement residual (eq. 20): y_k ⊟ h(x_k), whitened by R^-1/2.
+/// Measurement residual (eq. (57)): y_k ⊟ h(x_k), whitened by R^-1/2.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -109,7 +109,7 @@ struct SwlsMeasurementResidual {
   }
 };
 
-/// @brief Gaussian prior on one state (initial prior or marginalization prior, eq. 22):
+/// @brief Gaussian prior on one state (initial prior or marginalization prior, eq. (57)):
 /// r = J (x ⊟ x_bar) + r0 (10 residuals).
 struct SwlsPriorResidual {
   double x_bar[kSwlsAmbient];

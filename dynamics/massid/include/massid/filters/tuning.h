@@ -1,8 +1,8 @@
 #pragma once
 /// @file tuning.h
 /// @brief Noise model and window settings shared by the model-based mass estimators
-/// (EKF, UKF, MSCKF, SWLS). Process noise is eq. 1's additive n_x as random walks on the
-/// error state; measurement noise (eq. 2's n_y) comes from the run's RunInfo sigmas.
+/// (EKF, UKF, MSCKF, SWLS). Process noise is docs/model.md eq. (49)'s additive n_x as random walks on the
+/// error state; measurement noise (eq. (49)'s n_y) comes from the run's RunInfo sigmas.
 
 #include <Eigen/Core>
 #include <string>
@@ -12,7 +12,7 @@
 
 namespace vid::massid {
 
-/// @brief Tuning of the model-based methods (documented in README "Methods"); defaults chosen on
+/// @brief Tuning of the model-based methods (documented in dynamics/massid/README.md "Methods"); defaults chosen on
 /// generated loop runs (massid_diag sweeps) as the best compromise between noise and step lag.
 struct ModelBasedTuning {
   double sigma_theta_rw = 0.005;   ///< attitude random walk [rad/sqrt(s)] (body-rate tracking error)

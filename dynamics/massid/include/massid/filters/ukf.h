@@ -1,11 +1,11 @@
 #pragma once
 /// @file ukf.h
-/// @brief Unscented Kalman filter with sigma points on the manifold (seed eqs. 15-17):
-/// chi_0 = x, chi_{i, i+n} = x ⊞ (± sqrt((n + lambda) P))_i (eq. 15); the predicted mean is
+/// @brief Unscented Kalman filter with sigma points on the manifold (docs/model.md eqs. (52)-(54)):
+/// chi_0 = x, chi_{i, i+n} = x ⊞ (± sqrt((n + lambda) P))_i (eq. (52)); the predicted mean is
 /// the weighted manifold mean of f(chi) (fixed-point iteration in the tangent of the current
-/// mean; the covariance uses the deviations centred on the mean shift, exact in R^n), P^- = sum w_c (chi ⊟ x^-)(.)^T + Q (eq. 16); the update redraws sigma points around
+/// mean; the covariance uses the deviations centred on the mean shift, exact in R^n), P^- = sum w_c (chi ⊟ x^-)(.)^T + Q (eq. (53)); the update redraws sigma points around
 /// (x^-, P^-), forms Pyy = sum w_c dy dy^T + R and Pxy = sum w_c dx dy^T with dy taken in the
-/// tangent of h(x^-), K = Pxy Pyy^-1 (eq. 17).
+/// tangent of h(x^-), K = Pxy Pyy^-1 (eq. (54)).
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>

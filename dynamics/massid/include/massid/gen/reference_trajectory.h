@@ -1,7 +1,8 @@
 #pragma once
 /// @file reference_trajectory.h
 /// @brief The study's reference trajectories (seed section 5.3): random, loop, lemniscate,
-/// zigzag, square. Sizes, speeds and periods are in study_config.h / README "Data generation".
+/// zigzag, square. Sizes, speeds and periods are in study_config.h / dynamics/massid/README.md
+/// "Data generation".
 ///
 /// Every trajectory starts at rest in hover: the base path p(tau) is run through a time warp
 /// tau(t) whose rate rises smoothly from 0 to 1 over `ramp_s`, so v, a start at zero.

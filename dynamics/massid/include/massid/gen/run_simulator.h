@@ -1,11 +1,11 @@
 #pragma once
 /// @file run_simulator.h
 /// @brief One run of the study: reference trajectory + MPC with the wrong nominal mass +
-/// true dynamics of seed eq. 47 with the true (time-varying) mass + noisy measurements.
+/// true dynamics of docs/model.md eq. (55) with the true (time-varying) mass + noisy measurements.
 ///
 /// Timing: sample k is at t_k = k / rate_hz. Its row holds the measured q, p, v at t_k and the
 /// commands computed from them; the commands are held (zero-order hold) on [t_k, t_{k+1}).
-/// True dynamics (seed eq. 47): q' = 1/2 q ⊗ [0, w], p' = v, v' = R(q) (T/m) e3 + g_W, integrated
+/// True dynamics (docs/model.md eq. (55)): q' = 1/2 q ⊗ [0, w], p' = v, v' = R(q) (T/m) e3 + g_W, integrated
 /// with the exact rotation for constant w and RK4 for p, v (integration_substeps per sample).
 
 #include <Eigen/Core>
