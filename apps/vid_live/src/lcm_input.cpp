@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -131,7 +132,10 @@ std::uint64_t find_sync(std::ifstream& f, std::uint64_t from, std::uint64_t size
 
 std::int64_t LogScan::events_lost() const {
   std::int64_t n = 0;
-  for (const DamagedSpan& d : damaged) n += std::max<std::int64_t>(d.events_lost, 0);
+  // Saturates: gaps come from event numbers in the file, which a damaged log may make huge.
+  for (const DamagedSpan& d : damaged)
+    if (__builtin_add_overflow(n, std::max<std::int64_t>(d.events_lost, 0), &n))
+      return std::numeric_limits<std::int64_t>::max();
   return n;
 }
 
@@ -183,8 +187,11 @@ LogScan scan_lcm_log(const std::string& path) {
                                            channel));
     if (at + kHeader + channel + data > s.size) break;  // cut inside the event
     const auto number = static_cast<std::int64_t>(be(4, 8));
-    if (resynced && number > last_number) {
-      s.damaged.back().events_lost = number - last_number - 1;
+    // Event numbers come from the file: a damaged one may be any int64, so the gap is computed
+    // without overflow and a gap that does not fit stays "unknown".
+    std::int64_t gap = 0;
+    if (resynced && number > last_number && !__builtin_sub_overflow(number, last_number, &gap)) {
+      s.damaged.back().events_lost = gap - 1;
       s.damaged.back().first_lost = last_number + 1;
     }
     resynced = false;
