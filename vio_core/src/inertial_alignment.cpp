@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "geometry/so3.h"
 
@@ -15,6 +16,98 @@ namespace {
 ImuRow lerp(const ImuRow& a, const ImuRow& b, TimeNs t) {
   const double w = b.t == a.t ? 1.0 : static_cast<double>(t - a.t) / static_cast<double>(b.t - a.t);
   return {t, (1.0 - w) * a.gyro + w * b.gyro, (1.0 - w) * a.accel + w * b.accel};
+}
+
+/// Reprojection cost (in units of sigma_norm) of the kept bearings at x = (p_0..p_{K-1}, L_j,
+/// d_bg), and with @p H, @p g its Gauss-Newton normal equations. +inf when a kept point is
+/// behind its camera.
+double reprojection_system(const std::vector<Track>& tracks, const std::vector<Eigen::Matrix3d>& R_Kk,
+                           const std::vector<Eigen::Isometry3d>& T_IC, double sigma_norm,
+                           const std::vector<Eigen::Matrix3d>& J_bg, const std::vector<std::vector<bool>>& keep,
+                           const Eigen::VectorXd& x, Eigen::MatrixXd* H, Eigen::VectorXd* g) {
+  const int K = static_cast<int>(R_Kk.size()) - 1;
+  const bool with_bg = !J_bg.empty();
+  const int ib = 3 * K + 3 * static_cast<int>(tracks.size());
+  if (H) {
+    H->setZero(x.size(), x.size());
+    g->setZero(x.size());
+  }
+  double cost = 0.0;
+  for (std::size_t j = 0; j < tracks.size(); ++j) {
+    const Eigen::Vector3d L = x.segment<3>(3 * K + 3 * static_cast<int>(j));
+    for (std::size_t o = 0; o < tracks[j].obs.size(); ++o) {
+      if (!keep[j][o]) continue;
+      const Bearing& br = tracks[j].obs[o];
+      const Eigen::Matrix3d R_k =
+          with_bg ? Eigen::Matrix3d(R_Kk[br.frame] * so3::exp(J_bg[br.frame] * x.segment<3>(ib))) : R_Kk[br.frame];
+      const Eigen::Vector3d p = br.frame < K ? Eigen::Vector3d(x.segment<3>(3 * br.frame)) : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d X_I = R_k.transpose() * (L - p);
+      const Eigen::Matrix3d R_CI = T_IC[br.cam].linear().transpose();
+      const Eigen::Vector3d X_C = R_CI * (X_I - T_IC[br.cam].translation());
+      if (X_C.z() < 1e-3) return std::numeric_limits<double>::infinity();
+      const double iz = 1.0 / X_C.z();
+      const Eigen::Vector2d r = (X_C.head<2>() * iz - br.xy) / sigma_norm;
+      cost += r.squaredNorm();
+      if (!H) continue;
+      Eigen::Matrix<double, 2, 3> J_pi;
+      J_pi << iz, 0.0, -X_C.x() * iz * iz, 0.0, iz, -X_C.y() * iz * iz;
+      J_pi /= sigma_norm;
+      const Eigen::Matrix<double, 2, 3> JL = J_pi * R_CI * R_k.transpose();  // d r / d L; d r / d p = -JL
+      const int iL = 3 * K + 3 * static_cast<int>(j), ip = 3 * br.frame;
+      H->block<3, 3>(iL, iL) += JL.transpose() * JL;
+      g->segment<3>(iL) += JL.transpose() * r;
+      if (br.frame < K) {
+        H->block<3, 3>(ip, ip) += JL.transpose() * JL;
+        H->block<3, 3>(iL, ip) -= JL.transpose() * JL;
+        H->block<3, 3>(ip, iL) -= JL.transpose() * JL;
+        g->segment<3>(ip) -= JL.transpose() * r;
+      }
+      if (with_bg) {  // X_I(d + e) = X_I + [X_I]x J_k e
+        const Eigen::Matrix<double, 2, 3> JB = J_pi * R_CI * so3::skew(X_I) * J_bg[br.frame];
+        H->block<3, 3>(ib, ib) += JB.transpose() * JB;
+        H->block<3, 3>(ib, iL) += JB.transpose() * JL;
+        H->block<3, 3>(iL, ib) += JL.transpose() * JB;
+        if (br.frame < K) {
+          H->block<3, 3>(ib, ip) -= JB.transpose() * JL;
+          H->block<3, 3>(ip, ib) -= JL.transpose() * JB;
+        }
+        g->segment<3>(ib) += JB.transpose() * r;
+      }
+    }
+  }
+  return cost;
+}
+
+/// Levenberg-Marquardt on the reprojection errors from the linear solution @p x: the linear
+/// system's depth-weighted algebraic error is biased at low disparity (rope_snap's stereo
+/// positions read 3-15 % short with 0.5 px of bearing noise, docs/notes/initialization.md);
+/// the reprojection error is the bearings' likelihood. On return @p H is the Gauss-Newton
+/// normal matrix at @p x and the result the cost; the input is kept when no step lowers it.
+double refine_reprojection(const std::vector<Track>& tracks, const std::vector<Eigen::Matrix3d>& R_Kk,
+                           const std::vector<Eigen::Isometry3d>& T_IC, double sigma_norm,
+                           const std::vector<Eigen::Matrix3d>& J_bg, const std::vector<std::vector<bool>>& keep,
+                           Eigen::VectorXd* x, Eigen::MatrixXd* H) {
+  Eigen::VectorXd g;
+  double cost = reprojection_system(tracks, R_Kk, T_IC, sigma_norm, J_bg, keep, *x, H, &g);
+  if (!std::isfinite(cost)) return cost;
+  double lambda = 1e-6 * H->diagonal().maxCoeff();
+  for (int it = 0; it < 10; ++it) {
+    Eigen::MatrixXd Hd = *H;
+    Hd.diagonal().array() += lambda;
+    const Eigen::VectorXd step = Hd.ldlt().solve(-g);
+    const Eigen::VectorXd x_new = *x + step;
+    const double c_new = reprojection_system(tracks, R_Kk, T_IC, sigma_norm, J_bg, keep, x_new, nullptr, nullptr);
+    if (!(c_new < cost)) {
+      lambda *= 10.0;
+      continue;
+    }
+    const bool converged = cost - c_new < 1e-6 * cost;
+    *x = x_new;
+    lambda = std::max(lambda * 0.1, 1e-12);
+    cost = reprojection_system(tracks, R_Kk, T_IC, sigma_norm, J_bg, keep, *x, H, &g);
+    if (converged) break;
+  }
+  return cost;
 }
 
 }  // namespace
@@ -161,6 +254,15 @@ std::optional<FramePositions> solve_frame_positions(const std::vector<Track>& tr
       }
     }
   }
+  // The linear passes give the start and the outliers; the reprojection error the estimate.
+  Eigen::VectorXd x_refined = x;
+  Eigen::MatrixXd H_refined;
+  const double c = refine_reprojection(tracks, R_Kk, T_IC, sigma_norm, J_bg, keep, &x_refined, &H_refined);
+  if (std::isfinite(c)) {
+    x = x_refined;
+    H = H_refined;
+    chi2 = c;
+  }
   const int dof = 2 * nobs - n;
   if (dof <= 0) {
     if (why) *why = "too few bearings for the stereo positions";
@@ -193,13 +295,11 @@ double alpha_covariance(double a, double b) {
 AlignedState solve_gravity_velocity(const FramePositions& pos, const WindowIntegrals& w, double accel_density,
                                     double sigma_ba, double gravity, const Eigen::MatrixXd& alpha_cov_extra) {
   const int K = static_cast<int>(w.tau.size()) - 1;
-  // 3K x 3K: visual + accelerometer noise of alpha. The visual part is doubled: over
-  // Monte-Carlo draws (tests/vio_core/test_dynamic_init.cpp) the velocity error from 0.5 px bearing
-  // noise alone had twice the variance the linear solve's covariance gives (the weak-baseline
-  // stereo scale is not linear at the noise level); with the factor the velocity NEES per dof is
-  // 1.2 instead of 1.36 (vid17_like starts: 2.5 by component).
-  constexpr double kVisualCovarianceScale = 2.0;
-  Eigen::MatrixXd S = pos.cov * kVisualCovarianceScale;
+  // 3K x 3K: visual + accelerometer noise of alpha. The positions' covariance is the
+  // reprojection refinement's as it is: over Monte-Carlo draws (tests/vio_core/test_dynamic_init.cpp)
+  // the velocity NEES per dof is 0.83 with it (the linear solve alone needed it doubled: its
+  // algebraic error biased the weak-baseline scale).
+  Eigen::MatrixXd S = pos.cov;
   if (alpha_cov_extra.rows() == S.rows()) S += alpha_cov_extra;
   Eigen::VectorXd z(3 * K);
   for (int i = 0; i < K; ++i) {
