@@ -16,7 +16,10 @@
 //   * with --est-time-offset: estimates the camera-IMU time offset online and writes
 //     OUT/time_offset.csv (per frame: the estimate and its sigma),
 //   * with --init-groundtruth: initializes from DATASET/mav0/state_groundtruth_estimate0 as
-//     OpenVINS's own ros1_serial_msckf does with its path_gt (for flights without a still start).
+//     OpenVINS's own ros1_serial_msckf does with its path_gt (for flights without a still start),
+//   * with --start S: drops the IMU samples and frames of the first S seconds of the data (as
+//     vid_run --start), for mid-flight starts (with --set init_dyn_use=true: its dynamic
+//     initializer).
 // Images are decoded before the timer starts, as vid_run's timing.total excludes decoding.
 #include <sys/resource.h>
 
@@ -167,6 +170,7 @@ void usage() {
   std::cout << "ov_driver --dataset DIR --out DIR [--cams 1|2] [--num-pts N] [--clones N]\n"
                "          [--max-msckf N] [--max-slam N] [--set key=value]... [--verbosity LEVEL]\n"
                "          [--base-config OPENVINS_ESTIMATOR_CONFIG.yaml] [--est-time-offset] [--init-groundtruth]\n"
+               "          [--start SECONDS]\n"
                "Runs OpenVINS (GPL-3) on a VID-MSCKF dataset folder; see bench/peers/README.md.\n";
 }
 
@@ -180,6 +184,7 @@ int main(int argc, char **argv) {
   std::string verbosity = "WARNING";
   bool est_time_offset = false;
   bool init_groundtruth = false;
+  double start_s = 0.0;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -197,6 +202,7 @@ int main(int argc, char **argv) {
     else if (a == "--base-config") base_config = next();
     else if (a == "--est-time-offset") est_time_offset = true;
     else if (a == "--init-groundtruth") init_groundtruth = true;
+    else if (a == "--start") start_s = std::stod(next());
     else if (a == "--set") parse_set(next(), overrides);
     else if (a == "-h" || a == "--help") {
       usage();
@@ -299,6 +305,14 @@ int main(int argc, char **argv) {
   std::vector<std::vector<std::pair<int64_t, std::string>>> frames;
   for (int c = 0; c < cams; ++c) frames.push_back(read_frames(dataset / ("cam" + std::to_string(c)) / "data.csv"));
   if (imu_data.empty() || frames[0].empty()) die("no IMU or no camera frames");
+  if (start_s > 0.0) {  // --start: from the data's first stamp, as vid_run
+    const int64_t t_cut = std::min(imu_data.front().ns, frames[0].front().first) + std::llround(start_s * 1e9);
+    imu_data.erase(imu_data.begin(), std::find_if(imu_data.begin(), imu_data.end(),
+                                                  [&](const ImuSample &m) { return m.ns >= t_cut; }));
+    for (auto &fr : frames)
+      fr.erase(fr.begin(), std::find_if(fr.begin(), fr.end(), [&](const auto &f) { return f.first >= t_cut; }));
+    if (imu_data.empty() || frames[0].empty()) die("--start " + std::to_string(start_s) + ": past the end of the data");
+  }
   // --init-groundtruth: OpenVINS's own reader of the EuRoC ground-truth CSV (t [ns], p, q wxyz,
   // v, b_g, b_a), used as its ros1_serial_msckf uses it.
   std::map<double, Eigen::Matrix<double, 17, 1>> gt_states;
