@@ -27,19 +27,8 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "eval"))
-from vid_eval.loaders import load_trajectory  # noqa: E402
+from vid_eval.loaders import dataset_first_time_ns, load_trajectory  # noqa: E402
 from vid_eval.ate import compute_ate  # noqa: E402
-
-
-def first_time_ns(dataset):
-    t = None
-    for csv in (dataset / "mav0").glob("*/data.csv"):
-        for line in csv.read_text().splitlines():
-            if line and not line.startswith("#"):
-                v = int(line.split(",")[0])
-                t = v if t is None else min(t, v)
-                break
-    return t
 
 
 def run(vid_run, dataset, out, config, start, seconds, init):
@@ -129,7 +118,7 @@ def main():
     root = a.out or pathlib.Path(tempfile.mkdtemp(prefix="init_sweep_"))
     rows = []
     for ds in a.dataset:
-        t0 = first_time_ns(ds)
+        t0 = dataset_first_time_ns(ds)
         for st in a.starts:
             o = root / f"{ds.name}_{st:g}_auto"
             rc, s = run(a.vid_run, ds, o, a.config, st, a.seconds, "auto")

@@ -30,18 +30,7 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "eval"))
 from vid_eval.ate import compute_ate  # noqa: E402
-from vid_eval.loaders import load_trajectory  # noqa: E402
-
-
-def first_time_ns(dataset: pathlib.Path) -> int:
-    t = None
-    for csv in (dataset / "mav0").glob("*/data.csv"):
-        for line in csv.read_text().splitlines():
-            if line and not line.startswith("#"):
-                v = int(line.split(",")[0])
-                t = v if t is None else min(t, v)
-                break
-    return t
+from vid_eval.loaders import dataset_first_time_ns, load_trajectory  # noqa: E402
 
 
 def run(cmd: list[str]) -> int:
@@ -90,7 +79,7 @@ def main() -> int:
         if not (ds / "mav0" / "cam0").is_dir():
             ap.error(f"{ds}: no rendered sequence (vid_sim --scenario config/sim/{name}.yaml --seed 1 --duration 60)")
         gt = ds / "mav0" / "state_groundtruth_estimate0" / "data.csv"
-        t0 = first_time_ns(ds)
+        t0 = dataset_first_time_ns(ds)
         starts = a.fast_yaw_starts if name == "fast_yaw" else a.starts
         seconds = a.fast_yaw_seconds if name == "fast_yaw" else a.seconds
         for s in (float(x) for x in starts.split(",")):

@@ -82,6 +82,22 @@ def load_state(path: PathLike) -> StateSeries:
                        sigma, tab.path)
 
 
+def dataset_first_time_ns(folder: PathLike) -> int:
+    """The earliest first stamp over a dataset folder's ``mav0/*/data.csv`` streams: the origin
+    of ``vid_run --start`` / ``--end`` (docs/formats.md section 1)."""
+    t = None
+    for csv in sorted((Path(folder) / "mav0").glob("*/data.csv")):
+        with open(csv, encoding="utf-8") as f:
+            for line in f:
+                if line.strip() and not line.startswith("#"):
+                    v = int(line.split(",")[0])
+                    t = v if t is None else min(t, v)
+                    break
+    if t is None:
+        raise InputFormatError(folder, "no mav0/*/data.csv with a data row")
+    return t
+
+
 def load_trajectory(path: PathLike, fmt: Optional[str] = None) -> Trajectory:
     """Load a trajectory in ``tum``, ``euroc`` (EuRoC/ASL CSV) or ``state`` format;
     ``fmt=None`` detects it (see :func:`detect_trajectory_format`)."""

@@ -31,3 +31,18 @@ def test_one_start_against_both_references(tmp_path):
     assert np.all(shadow[:, 14:17] == 0.0) and np.any(orig[:, 14:17] != 0.0)
     np.testing.assert_array_equal(shadow[:, :14], orig[:, :14])
     assert (tmp_path / f"{seq.name}_nobias" / "mav0" / "imu0").resolve() == (seq / "mav0" / "imu0").resolve()
+
+
+def test_dataset_first_time_is_the_earliest_stream_start(tmp_path):
+    import pytest
+    from vid_eval.errors import InputFormatError
+    from vid_eval.loaders import dataset_first_time_ns
+
+    seq = simulate_cached("vid17_like.yaml", 24.0, 1, True)
+    firsts = [int(next(ln for ln in csv.read_text().splitlines() if ln and not ln.startswith("#")).split(",")[0])
+              for csv in (seq / "mav0").glob("*/data.csv")]
+    assert dataset_first_time_ns(seq) == min(firsts)
+    (tmp_path / "mav0" / "imu0").mkdir(parents=True)
+    (tmp_path / "mav0" / "imu0" / "data.csv").write_text("#timestamp [ns],w_x\n")
+    with pytest.raises(InputFormatError, match="no mav0"):
+        dataset_first_time_ns(tmp_path)
