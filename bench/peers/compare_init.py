@@ -3,9 +3,9 @@
 
 For every rendered sequence and start S, both estimators start from the data at S (``vid_run
 --start S --init auto``, ``ov_driver --start S --set init_dyn_use=true``) on the same images,
-each with its own frontend, and run to S + SECONDS (fast_yaw: S + 7 s of its 20 s). Per run: whether and when it initialized
-(seconds of data after S until its first estimate), and the posyaw ATE of both over the same
-span, from the later of the two initializations to S + SECONDS (``vid_eval`` on the estimates in
+each with its own frontend, and run to S + SECONDS (fast_yaw: S + 7 s of its 20 s). Per run:
+whether and when it initialized (seconds of data after S until its first estimate), and the
+posyaw ATE of both over the same span, from the later of the two initializations to S + SECONDS (``vid_eval`` on the estimates in
 that span, each trajectory on its own times; ``-`` where one did not initialize).
 
 OpenVINS: the driver's settings of the simulated peer tables (bench/peers/README.md) with its

@@ -225,8 +225,6 @@ TEST(DynamicInit, NeesOfTiltAndVelocityOverMonteCarloDraws) {
   EXPECT_LT(nees_v, 1.5);
 }
 
-}  // namespace
-
 TEST(DynamicInit, StereoScaleIsUnbiasedAtLowDisparity) {
   // Walls 6 m away, 10 cm baseline: 6.7 px of disparity, 0.5 px of noise, a near-ideal IMU.
   // The velocity at init is the stereo positions' scale times the true one; the linear solve
@@ -248,3 +246,5 @@ TEST(DynamicInit, StereoScaleIsUnbiasedAtLowDisparity) {
   std::printf("velocity scale at init over %d draws: %.4f\n", runs, scale);
   EXPECT_NEAR(scale, 1.0, 0.02);
 }
+
+}  // namespace
