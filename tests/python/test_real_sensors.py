@@ -97,7 +97,11 @@ def over_seeds(tmp_path_factory, preset: str) -> list:
 #   fast_drag_short           0.094 0.106 0.101      0  0  0    1.072 0.983 1.009 (mean 1.021)
 #   vid17_real_sensors_short  0.103 0.104 0.115      0  0  0    1.015 0.986 1.085 (mean 1.029)
 #   rotor_dip_short           0.115 0.165 0.129      0  0  0    0.865 0.944 0.964 (mean 0.924)
-#   vibration_burst_short     0.301 0.255 0.279     57 58 52    0.814 0.936 1.010 (mean 0.920)
+#   vibration_burst_short     0.189 0.181 0.195     19 26 28    0.895 0.980 0.993 (mean 0.956)
+# vibration_burst_short with the detector counting vibration as white (before the coloured excess
+# of docs/model.md eq. (22)): 0.301 0.255 0.279 m/s^2, 57 58 52 jumps (half a cycle of a burst
+# read as a step); the jumps left are the bursts' first 0.1-0.4 s, before the noise estimate has
+# seen them.
 # vibration_burst_short seed 1 was 0.286 / 45 jumps with the first estimator (the plain window
 # variance), which read every slow innovation as noise: it also hid touchdowns (the vehicle sank
 # 0.4 m through the floor on takeoff_landing_short, ATE 0.076 m). With no adaptation: 0.341 / 88.
@@ -105,10 +109,10 @@ def over_seeds(tmp_path_factory, preset: str) -> list:
 # impacts_short's force from 0.90 to 1.20 and takeoff_landing_short's from 0.66 to 0.93 m/s^2:
 # within 20 ms a burst's onset and an impact look alike (docs/notes/real-sensors.md).
 WORST_FORCE = {"fast_drag_short": 0.106, "vid17_real_sensors_short": 0.115, "rotor_dip_short": 0.165,
-               "vibration_burst_short": 0.301}
-MOST_JUMPS = {"fast_drag_short": 0, "vid17_real_sensors_short": 0, "rotor_dip_short": 0, "vibration_burst_short": 58}
+               "vibration_burst_short": 0.195}
+MOST_JUMPS = {"fast_drag_short": 0, "vid17_real_sensors_short": 0, "rotor_dip_short": 0, "vibration_burst_short": 28}
 ATE_RATIO = {"fast_drag_short": 1.021, "vid17_real_sensors_short": 1.029, "rotor_dip_short": 0.924,
-             "vibration_burst_short": 0.920}  # mean over the seeds
+             "vibration_burst_short": 0.956}  # mean over the seeds
 SMOOTH = ["fast_drag_short", "vid17_real_sensors_short", "rotor_dip_short"]
 # Issue 48: body force <= 0.15 m/s^2 on every seed; dynamics ATE <= imu ATE on the mean and on
 # 2 of the 3 seeds. Where not met, a strict xfail.
@@ -154,7 +158,8 @@ def test_calibrated_force_target(tmp_path_factory, preset):
 
 
 @target_not_met("vibration bursts (0.4-1 m/s^2 rms at 10-40 Hz for 1-3 s) still read as force steps "
-                "in their first milliseconds (README 'Real sensors')")
+                "in their first 0.1-0.4 s, before the noise estimate has seen them "
+                "(docs/notes/real-sensors.md)")
 def test_vibration_burst_force_target(tmp_path_factory):
     for d, _ in over_seeds(tmp_path_factory, "vibration_burst_short"):
         target("vibration_burst_short body force RMSE", d["force_rmse_body_mps2"], 0.15, unit=" m/s^2")

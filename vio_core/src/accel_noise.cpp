@@ -22,6 +22,8 @@ void AccelNoiseAdapter::reset() {
   hp_sq_.setZero();
   R_.setConstant(R_nom_);
   e_.setConstant(R_nom_);
+  excess_.setZero();
+  hp_sq_window_.clear();
 }
 
 void AccelNoiseAdapter::add(const Eigen::Vector3d& r_I, const Eigen::Vector3d& S_I_diag) {
@@ -42,12 +44,25 @@ void AccelNoiseAdapter::add(const Eigen::Vector3d& r_I, const Eigen::Vector3d& S
   const double a = std::max(alpha_, 1.0 / static_cast<double>(n_ - 1));
   const Eigen::Vector3d clip2 = (kClipSigma * kClipSigma * white_gain_) * S_I_diag;
   hp_sq_ = (1.0 - a) * hp_sq_ + a * hp_.cwiseAbs2().cwiseMin(clip2);
+  const auto window = static_cast<std::size_t>(std::lround(1.0 / alpha_));
+  if (hp_sq_window_.size() < window) {
+    hp_sq_window_.push_back(hp_.cwiseAbs2());
+  } else {
+    hp_sq_window_[static_cast<std::size_t>(n_ - 2) % window] = hp_.cwiseAbs2();
+  }
   if (static_cast<double>(n_ - 1) * alpha_ < 1.0) return;  // less than one window seen
   bool inflated = false;
   for (int i = 0; i < 3; ++i) {
     const double var = hp_sq_(i) / white_gain_;  // white-noise equivalent variance
-    const bool noisy = var > 2.0 * e_(i);
+    const bool noisy = var > kExcessRatio * e_(i);
     R_(i) = noisy ? R_nom_ + (var - e_(i)) : R_nom_;
+    scratch_.clear();
+    for (const Eigen::Vector3d& h : hp_sq_window_) scratch_.push_back(h(i));
+    const auto mid = scratch_.begin() + static_cast<std::ptrdiff_t>(scratch_.size() / 2);
+    std::nth_element(scratch_.begin(), mid, scratch_.end());
+    constexpr double kChi2MedianOne = 0.4549;  // median of chi2(1)
+    const double var_med = *mid / (kChi2MedianOne * white_gain_);
+    excess_(i) = var_med > kExcessRatio * e_(i) ? var_med - e_(i) : 0.0;
     inflated = inflated || noisy;
   }
   if (inflated) ++inflated_;

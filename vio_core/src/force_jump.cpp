@@ -9,12 +9,16 @@
 #include <stdexcept>
 
 #include "geometry/so3.h"
+#include "vio_core/accel_noise.h"
 #include "vio_core/ekf_update.h"
 
 namespace vid {
 
 ForceJumpDetector::ForceJumpDetector(const EstimatorParams& p)
     : threshold_(p.force_jump_threshold),
+      vib_sum_gain_max_(p.imu_rate_hz > 0.0
+                            ? 1.0 / std::pow(std::sin(M_PI * AccelNoiseAdapter::kHighpassHz / p.imu_rate_hz), 2)
+                            : 0.0),
       split_sigma_(p.force_jump_split_sigma),
       min_step_(p.force_jump_min_step),
       max_window_(p.force_jump_window) {
@@ -36,6 +40,15 @@ std::optional<AccelInnovation> ForceJumpDetector::push(const AccelInnovation& s)
   return out;
 }
 
+Eigen::Matrix3d ForceJumpDetector::coloured_excess(int n, const Eigen::Matrix3d& X_n) const {
+  // sum_k v_k over n samples of a stationary tone of variance x at frequency f: variance
+  // x sin^2(n pi f dt) / sin^2(pi f dt) <= x min(n^2, 1 / sin^2(pi f dt)), largest at the lowest
+  // f in the band. X_n = n x; the white sum counted n x of it already.
+  const double dn = static_cast<double>(n);
+  const double gain = std::min(dn * dn, vib_sum_gain_max_);
+  return gain > dn ? Eigen::Matrix3d((gain / dn - 1.0) * X_n) : Eigen::Matrix3d::Zero();
+}
+
 std::optional<ForceJump> ForceJumpDetector::test() const {
   std::optional<ForceJump> best;
   double best_stat = threshold_;
@@ -45,19 +58,32 @@ std::optional<ForceJump> ForceJumpDetector::test() const {
   const int count = std::min(size(), max_window_);
   cum_w_.resize(static_cast<std::size_t>(count) + 1);
   cum_S_.resize(static_cast<std::size_t>(count) + 1);
+  cum_X_.resize(static_cast<std::size_t>(count) + 1);
   cum_w_[0].setZero();
   cum_S_[0].setZero();
+  cum_X_[0].setZero();
+  bool vibration = false;
   for (int i = 0; i < count; ++i) {
-    cum_w_[static_cast<std::size_t>(i) + 1] = cum_w_[static_cast<std::size_t>(i)] + recent(i).w_test;
-    cum_S_[static_cast<std::size_t>(i) + 1] = cum_S_[static_cast<std::size_t>(i)] + recent(i).S;
+    const auto k = static_cast<std::size_t>(i);
+    cum_w_[k + 1] = cum_w_[k] + recent(i).w_test;
+    cum_S_[k + 1] = cum_S_[k] + recent(i).S;
+    cum_X_[k + 1] = cum_X_[k] + recent(i).S_vib;
+    vibration = vibration || !recent(i).S_vib.isZero(0.0);
   }
   // Onsets: every n up to 16, then every 2nd up to 32, 4th up to 64, ... (the relative
   // resolution of a long window's onset need not be finer; keeps the test O(log N) windows).
   for (int n = 2; n <= count; n += std::max(1, n / 16)) {
-    const Eigen::Vector3d& C = cum_w_[static_cast<std::size_t>(n)];
-    const Eigen::Matrix3d& SS = cum_S_[static_cast<std::size_t>(n)];
-    const Eigen::Vector3d& C_half = cum_w_[static_cast<std::size_t>(n / 2)];
-    const Eigen::Matrix3d& SS_half = cum_S_[static_cast<std::size_t>(n / 2)];
+    const auto un = static_cast<std::size_t>(n), uh = static_cast<std::size_t>(n / 2);
+    const Eigen::Vector3d& C = cum_w_[un];
+    const Eigen::Vector3d& C_half = cum_w_[uh];
+    Eigen::Matrix3d SS = cum_S_[un];
+    Eigen::Matrix3d SS_half = cum_S_[uh];
+    Eigen::Matrix3d SS_old = SS - SS_half;
+    if (vibration) {
+      SS_old += coloured_excess(n - n / 2, cum_X_[un] - cum_X_[uh]);
+      SS += coloured_excess(n, cum_X_[un]);
+      SS_half += coloured_excess(n / 2, cum_X_[uh]);
+    }
     // Closed-form 3x3 inverse (cofactors): several times cheaper than a Cholesky per window,
     // and this runs for ~50 windows after every accelerometer sample.
     Eigen::Matrix3d SS_inv;
@@ -71,7 +97,6 @@ std::optional<ForceJump> ForceJumpDetector::test() const {
     // at >= split_sigma standard deviations (u^T sum_half S u under no step).
     const Eigen::Vector3d u = a / std::sqrt(l);
     const Eigen::Vector3d C_old = C - C_half;
-    const Eigen::Matrix3d SS_old = SS - SS_half;
     const double z_new = u.dot(C_half) / std::sqrt(u.dot(SS_half * u));
     const double z_old = u.dot(C_old) / std::sqrt(u.dot(SS_old * u));
     if (!(z_new >= split_sigma_ && z_old >= split_sigma_)) continue;

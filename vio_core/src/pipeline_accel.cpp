@@ -81,6 +81,13 @@ void Pipeline::accel_step(const ImuInput& in) {
   const UpdateResult u = accel_update(state_, in.accel, in.T_m, noise_var, thr, &info, down);
   add_noise_fit(info);
   if (u.applied && !u.downweighted) ++counters_.accel_updates;
+  // The noise the adapter added for vibration, in the force frame: coloured (force_jump.h).
+  const Eigen::Vector3d vib = accel_noise_.excess_var();
+  if (!vib.isZero(0.0)) {
+    const bool world = state_.force_frame() == ForceFrame::kWorld;
+    info.S_vib = world ? Eigen::Matrix3d(info.R_WI * vib.asDiagonal() * info.R_WI.transpose())
+                       : Eigen::Matrix3d(vib.asDiagonal());
+  }
   // A sample past the gate (rejected or down-weighted) stays in the detector's window: if a
   // jump uses it, its correction is undone and it counts at full weight in the jump's estimate;
   // otherwise it counts as rejected / down-weighted once it leaves the window.

@@ -21,6 +21,7 @@
 /// sample for sample (100 samples at 400 Hz: the estimate spreads ~15 %).
 
 #include <Eigen/Core>
+#include <vector>
 
 namespace vid {
 
@@ -29,6 +30,10 @@ class AccelNoiseAdapter {
  public:
   /// Innovation power below this counts as force, not noise [Hz].
   static constexpr double kHighpassHz = 10.0;
+  /// Vibration counts where the white-equivalent power exceeds this multiple of what the
+  /// nominal noise predicts (about 3 standard deviations of a window's estimate, and past the
+  /// innovations of a filter still catching up with a force).
+  static constexpr double kExcessRatio = 2.0;
   /// A sample's high-passed innovation counts at most this many sigma of the noise in use.
   static constexpr double kClipSigma = 3.0;
   /// @param nominal_var R_nom [(m/s^2)^2] per sample; @param window_s the averaging window
@@ -41,6 +46,12 @@ class AccelNoiseAdapter {
   void add(const Eigen::Vector3d& r_I, const Eigen::Vector3d& S_I_diag);
   /// @brief The innovation variance the nominal noise predicts for the last sample, per axis.
   const Eigen::Vector3d& nominal_innovation_var() const { return e_; }
+  /// @brief Per axis, the vibration the force-jump detector must not read as white
+  /// (force_jump.h): the high-passed innovation power above what the nominal noise predicts,
+  /// from the median of the window's squares (white-equivalent, median of chi2(1) = 0.455) where
+  /// it is clearly there (> kExcessRatio e_i), else 0. The median, not the mean: vibration fills
+  /// the window, while an impact's few samples leave it unchanged and must stay detectable.
+  const Eigen::Vector3d& excess_var() const { return excess_; }
   /// @brief Samples with an inflated noise on some axis.
   long inflated_samples() const { return inflated_; }
   void reset();
@@ -54,7 +65,9 @@ class AccelNoiseAdapter {
   Eigen::Vector3d last_r_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d hp_ = Eigen::Vector3d::Zero();     ///< high-passed innovation
   Eigen::Vector3d hp_sq_ = Eigen::Vector3d::Zero();  ///< its windowed mean square
-  Eigen::Vector3d R_, e_;
+  Eigen::Vector3d R_, e_, excess_ = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> hp_sq_window_;  ///< the last window's squared high-passed innovations (ring)
+  std::vector<double> scratch_;  ///< one axis of hp_sq_window_ for the median
   long inflated_ = 0;
 };
 

@@ -14,6 +14,10 @@
 /// (each innovation clipped at 3 sigma, so that one outlier weighs no more than a 3-sigma sample)
 /// which is chi2(3) while the filter is consistent and grows as n |dF|^2 / sigma^2 after a
 /// step. Each half of the window must carry the step too (a one-sample spike is not a step).
+/// Vibration is not white: the noise the adapter adds for it (S_vib, power above 10 Hz) sums
+/// over n samples to at most min(n^2, 1/sin^2(pi f_lo dt)) times its variance (a tone at the
+/// band's lowest frequency f_lo, its worst case), not n times, so half a cycle of a 10-40 Hz
+/// burst is not read as a step (docs/model.md eq. (22)).
 /// On a detection the window's accelerometer corrections of velocity, biases and force are
 /// undone (not of the pose, which the clones share), the force gets the
 /// step's prior variance and its rate restarts, and the window's samples are applied once as
@@ -41,6 +45,9 @@ struct AccelInnovation {
   Eigen::Vector3d w = Eigen::Vector3d::Zero();  ///< innovation in the force frame [m/s^2]
   Eigen::Vector3d w_test = Eigen::Vector3d::Zero();  ///< w clipped at 3 sigma (set by the detector)
   Eigen::Matrix3d S = Eigen::Matrix3d::Zero();  ///< its covariance in the force frame
+  /// The part of S's noise that is vibration (the adapted noise above nominal, accel_noise.h),
+  /// in the force frame: coloured, so the detector does not count it as white (test()).
+  Eigen::Matrix3d S_vib = Eigen::Matrix3d::Zero();
   /// The measurement a_m - s T_m in the force frame: R_WI (a_m - s T_m) (world model; R_WI of
   /// the sample's time) or a_m - s T_m (body model); s = 1 unless the thrust scale is estimated.
   Eigen::Vector3d y = Eigen::Vector3d::Zero();
@@ -76,13 +83,19 @@ class ForceJumpDetector {
   void clear() { buf_.clear(); }
 
  private:
+  /// @brief The coloured (vibration) part of the covariance of a sum of n samples whose
+  /// S_vib sum to X_n, beyond the white n-fold sum already in sum S.
+  Eigen::Matrix3d coloured_excess(int n, const Eigen::Matrix3d& X_n) const;
+
   double threshold_;
+  double vib_sum_gain_max_;  ///< 1 / sin^2(pi f_lo dt): a tone at f_lo summed over its half cycle
   double split_sigma_;
   double min_step_;
   int max_window_;
   std::deque<AccelInnovation> buf_;
   mutable std::vector<Eigen::Vector3d> cum_w_;  ///< scratch of test(): sums of the newest i innovations
   mutable std::vector<Eigen::Matrix3d> cum_S_;
+  mutable std::vector<Eigen::Matrix3d> cum_X_;
 };
 
 /// @brief Apply a detected jump to the state: undo the window's accelerometer corrections of
