@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "geometry/so3.h"
+#include "vio_core/accel_noise.h"
 #include "vio_core/ekf_update.h"
 #include "vio_core/force_jump.h"
 #include "vio_core/initializer.h"
@@ -55,7 +56,8 @@ BENCHMARK(BM_AccelUpdate)->Args({11, 1})->Args({11, 0})->Args({0, 1});
 
 // The force-jump detector's per-sample work as the pipeline does it after every accelerometer
 // update: push one innovation and test every window of a full 64-sample buffer (white
-// innovations: no detection, the common case).
+// innovations: no detection, the common case). Arg 1: with a vibration excess on every sample
+// (the coloured sums of docs/model.md eq. (22)).
 void BM_ForceJumpPushTest(benchmark::State& st) {
   const EstimatorParams p;
   ForceJumpDetector det(p);
@@ -66,6 +68,7 @@ void BM_ForceJumpPushTest(benchmark::State& st) {
     samples[k].t_ns = static_cast<TimeNs>(k) * 2'500'000;
     samples[k].w = Eigen::Vector3d(nd(rng), nd(rng), nd(rng));
     samples[k].S = 4.0 * Eigen::Matrix3d::Identity();
+    if (st.range(0) == 1) samples[k].S_vib = 1.0 * Eigen::Matrix3d::Identity();
   }
   for (int k = 0; k < p.force_jump_window; ++k) det.push(samples[static_cast<std::size_t>(k)]);
   std::size_t k = 0;
@@ -76,7 +79,24 @@ void BM_ForceJumpPushTest(benchmark::State& st) {
     benchmark::DoNotOptimize(j);
   }
 }
-BENCHMARK(BM_ForceJumpPushTest);
+BENCHMARK(BM_ForceJumpPushTest)->Arg(0)->Arg(1);
+
+// The vibration-aware noise per accelerometer sample (accel_noise.h): the windowed high-pass
+// power and the median of the window's squares (100 samples at 400 Hz) on each axis.
+void BM_AccelNoiseAdd(benchmark::State& st) {
+  AccelNoiseAdapter noise(0.25, 0.25, 400.0);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> nd(0.0, 0.5);
+  std::vector<Eigen::Vector3d> r(1024);
+  for (Eigen::Vector3d& x : r) x = Eigen::Vector3d(nd(rng), nd(rng), nd(rng));
+  const Eigen::Vector3d S = Eigen::Vector3d::Constant(0.26);
+  std::size_t k = 0;
+  for (auto _ : st) {
+    noise.add(r[k++ & 1023], S);
+    benchmark::DoNotOptimize(noise.excess_var());
+  }
+}
+BENCHMARK(BM_AccelNoiseAdd);
 
 void BM_PropagationStep(benchmark::State& st) {
   const PropagationMode mode = st.range(0) ? PropagationMode::kDynamics : PropagationMode::kImu;
