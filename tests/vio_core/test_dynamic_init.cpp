@@ -247,4 +247,73 @@ TEST(DynamicInit, StereoScaleIsUnbiasedAtLowDisparity) {
   EXPECT_NEAR(scale, 1.0, 0.02);
 }
 
+// The refinement's normal equations against numeric derivatives of its cost: the gradient
+// 2 J^T r at a perturbed x (residuals of every size), and the Gauss-Newton matrix J^T J against
+// half the cost's Hessian where the residuals vanish (there the two are equal); the gyro-bias
+// block at d_bg = 0, where its first-order Jacobian is exact.
+TEST(InertialAlignment, ReprojectionNormalEquationsMatchNumericDerivatives) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const int K = 3, landmarks = 6;
+  std::vector<Eigen::Matrix3d> R_Kk, J_bg;
+  for (int k = 0; k <= K; ++k) {
+    R_Kk.push_back(so3::exp(Eigen::Vector3d(0.1 * u(rng), 0.1 * u(rng), 0.1 * u(rng))));
+    J_bg.push_back(0.05 * (k - K) * Eigen::Matrix3d::Identity() + 0.01 * Eigen::Matrix3d::Random());
+  }
+  std::vector<Eigen::Isometry3d> T_IC(2, Eigen::Isometry3d::Identity());
+  T_IC[1].translation() = Eigen::Vector3d(0.1, 0.0, 0.0);
+  std::vector<Eigen::Vector3d> p(K), L(landmarks);
+  for (Eigen::Vector3d& v : p) v = 0.2 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+  for (Eigen::Vector3d& v : L) v = Eigen::Vector3d(u(rng), u(rng), 4.0 + u(rng));
+  std::vector<align::Track> tracks(landmarks);
+  std::vector<std::vector<bool>> keep(landmarks);
+  for (int j = 0; j < landmarks; ++j) {
+    for (int k = 0; k <= K; ++k) {
+      for (int c = 0; c < 2; ++c) {
+        const Eigen::Vector3d p_k = k < K ? p[k] : Eigen::Vector3d::Zero();
+        const Eigen::Vector3d X_C = T_IC[c].inverse() * Eigen::Vector3d(R_Kk[k].transpose() * (L[j] - p_k));
+        tracks[j].obs.push_back({k, c, X_C.head<2>() / X_C.z()});
+        keep[j].push_back(true);
+      }
+    }
+  }
+  Eigen::VectorXd x_true(3 * K + 3 * landmarks + 3);
+  for (int k = 0; k < K; ++k) x_true.segment<3>(3 * k) = p[k];
+  for (int j = 0; j < landmarks; ++j) x_true.segment<3>(3 * K + 3 * j) = L[j];
+  x_true.tail<3>().setZero();
+  const double sigma = 0.002;
+  const auto cost = [&](const Eigen::VectorXd& x) {
+    return align::detail::reprojection_system(tracks, R_Kk, T_IC, sigma, J_bg, keep, x, nullptr, nullptr);
+  };
+  Eigen::MatrixXd H;
+  Eigen::VectorXd g;
+  // Gradient at a perturbed point (bias block held at 0).
+  Eigen::VectorXd x = x_true;
+  for (int i = 0; i < 3 * K + 3 * landmarks; ++i) x(i) += 0.02 * u(rng);
+  align::detail::reprojection_system(tracks, R_Kk, T_IC, sigma, J_bg, keep, x, &H, &g);
+  const double h = 1e-6;
+  for (int i = 0; i < x.size(); ++i) {
+    Eigen::VectorXd xp = x, xm = x;
+    xp(i) += h;
+    xm(i) -= h;
+    const double numeric = (cost(xp) - cost(xm)) / (2.0 * h);
+    EXPECT_NEAR(2.0 * g(i), numeric, 1e-5 * std::max(1.0, std::abs(numeric))) << "gradient, component " << i;
+  }
+  // Gauss-Newton matrix at the exact solution: the cost's Hessian is 2 J^T J there.
+  align::detail::reprojection_system(tracks, R_Kk, T_IC, sigma, J_bg, keep, x_true, &H, &g);
+  EXPECT_LT(g.norm(), 1e-6);
+  const double e = 1e-4;
+  for (int i = 0; i < x_true.size(); ++i) {
+    for (int j = i; j < x_true.size(); j += 5) {  // every 5th column: the same code path per block
+      Eigen::VectorXd xpp = x_true, xpm = x_true, xmp = x_true, xmm = x_true;
+      xpp(i) += e, xpp(j) += e;
+      xpm(i) += e, xpm(j) -= e;
+      xmp(i) -= e, xmp(j) += e;
+      xmm(i) -= e, xmm(j) -= e;
+      const double hess = (cost(xpp) - cost(xpm) - cost(xmp) + cost(xmm)) / (4.0 * e * e);
+      EXPECT_NEAR(H(i, j), 0.5 * hess, 1e-4 * std::max(1.0, std::abs(H(i, j)))) << "H(" << i << ", " << j << ")";
+    }
+  }
+}
+
 }  // namespace

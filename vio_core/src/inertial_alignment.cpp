@@ -18,13 +18,13 @@ ImuRow lerp(const ImuRow& a, const ImuRow& b, TimeNs t) {
   return {t, (1.0 - w) * a.gyro + w * b.gyro, (1.0 - w) * a.accel + w * b.accel};
 }
 
-/// Reprojection cost (in units of sigma_norm) of the kept bearings at x = (p_0..p_{K-1}, L_j,
-/// d_bg), and with @p H, @p g its Gauss-Newton normal equations. +inf when a kept point is
-/// behind its camera.
-double reprojection_system(const std::vector<Track>& tracks, const std::vector<Eigen::Matrix3d>& R_Kk,
-                           const std::vector<Eigen::Isometry3d>& T_IC, double sigma_norm,
-                           const std::vector<Eigen::Matrix3d>& J_bg, const std::vector<std::vector<bool>>& keep,
-                           const Eigen::VectorXd& x, Eigen::MatrixXd* H, Eigen::VectorXd* g) {
+}  // namespace
+
+double detail::reprojection_system(const std::vector<Track>& tracks, const std::vector<Eigen::Matrix3d>& R_Kk,
+                                   const std::vector<Eigen::Isometry3d>& T_IC, double sigma_norm,
+                                   const std::vector<Eigen::Matrix3d>& J_bg,
+                                   const std::vector<std::vector<bool>>& keep, const Eigen::VectorXd& x,
+                                   Eigen::MatrixXd* H, Eigen::VectorXd* g) {
   const int K = static_cast<int>(R_Kk.size()) - 1;
   const bool with_bg = !J_bg.empty();
   const int ib = 3 * K + 3 * static_cast<int>(tracks.size());
@@ -77,6 +77,9 @@ double reprojection_system(const std::vector<Track>& tracks, const std::vector<E
   }
   return cost;
 }
+
+namespace {
+using detail::reprojection_system;
 
 /// Levenberg-Marquardt on the reprojection errors from the linear solution @p x: the linear
 /// system's depth-weighted algebraic error is biased at low disparity (rope_snap's stereo

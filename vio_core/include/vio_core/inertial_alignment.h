@@ -79,6 +79,17 @@ std::optional<FramePositions> solve_frame_positions(const std::vector<Track>& tr
                                                     const std::vector<Eigen::Isometry3d>& T_IC, double sigma_norm,
                                                     std::string* why, const std::vector<Eigen::Matrix3d>& J_bg = {});
 
+namespace detail {
+/// @brief Reprojection cost (in units of sigma_norm) of the kept bearings at
+/// x = (p_0..p_{K-1}, L_j, d_bg) and, with @p H and @p g, its Gauss-Newton normal equations
+/// (H = J^T J, g = J^T r); +inf when a kept point is behind its camera. The refinement inside
+/// solve_frame_positions; declared here for its numeric-derivative test.
+double reprojection_system(const std::vector<Track>& tracks, const std::vector<Eigen::Matrix3d>& R_Kk,
+                           const std::vector<Eigen::Isometry3d>& T_IC, double sigma_norm,
+                           const std::vector<Eigen::Matrix3d>& J_bg, const std::vector<std::vector<bool>>& keep,
+                           const Eigen::VectorXd& x, Eigen::MatrixXd* H, Eigen::VectorXd* g);
+}  // namespace detail
+
 /// @brief The state of the last frame.
 struct AlignedState {
   Eigen::Vector3d v_I;  ///< velocity in I_K
