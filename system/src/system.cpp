@@ -106,7 +106,7 @@ void System::build_estimator() {
 }
 
 void System::restart() {
-  add_counters(past_counters_, pipeline_->counters());
+  past_counters_.merge(pipeline_->counters());
   tracking_ms_.clear();
   ++restarts_;
   mark_next_estimate_ = mark_next_smoothed_ = true;  // the new piece's first estimates

@@ -37,9 +37,6 @@ double process_cpu_s();
 /// grow when other processes compete for the cores (the machine the timings come from is shared).
 double thread_cpu_ms();
 
-/// @brief Add the counters of @p b to @p a (estimators of one run, before and after a restart).
-void add_counters(PipelineCounters& a, const PipelineCounters& b);
-
 /// @brief What happened to the accelerometer samples: rejected count, fraction and time spans,
 /// and the force jumps (summary.json "accel"). Spans and jumps list at most 200 entries each.
 nlohmann::json accel_report(const PipelineCounters& c);

@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "vio_core/force_jump.h"
+#include "vio_core/accel_innovation.h"
 #include "vio_core/state.h"
 
 namespace vid {

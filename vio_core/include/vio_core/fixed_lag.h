@@ -17,7 +17,7 @@
 #include <optional>
 
 #include "geometry/pose.h"
-#include "vio_core/pipeline.h"
+#include "vio_core/pipeline_outputs.h"
 
 namespace vid {
 
