@@ -9,22 +9,13 @@
 
 #include "pipeline_detail.h"
 #include "vio_core/fixed_lag.h"  // complete type for lagged_
-#include "vio_core/force_output.h"
 #include "vio_core/msckf/feature_database.h"
 #include "vio_core/propagation.h"
 #include "vio_core/thrust.h"
+#include "vio_core/visual_updater.h"
 
 namespace vid {
 using namespace pipeline_detail;
-
-std::string to_string(FilterStatus s) {
-  switch (s) {
-    case FilterStatus::kWaitingForInit: return "waiting_for_init";
-    case FilterStatus::kOk: return "ok";
-    case FilterStatus::kDiverged: return "diverged";
-  }
-  return "unknown";
-}
 
 Pipeline::Pipeline(PipelineConfig config)
     : config_(std::move(config)),
@@ -32,6 +23,7 @@ Pipeline::Pipeline(PipelineConfig config)
       initializer_(config_.params),
       thrust_(seconds_to_ns(config_.params.rotor_gap_s)),
       features_(std::make_unique<msckf::FeatureDatabase>()),
+      visual_(std::make_unique<VisualUpdater>(config_.params, config_.cameras)),
       jumps_(config_.params),
       phase_(config_.params),
       health_(config_.params),
@@ -284,38 +276,6 @@ void Pipeline::integrate_to(const ImuInput& a, const ImuInput& b, TimeNs t_end, 
     prev = next;
   }
   pending_timings_.propagation_ms += ms_since(c0);
-}
-
-void Pipeline::emit(TimeNs t) {
-  if (!on_estimate_ && !lagged_) return;
-  EstimateOutput o;
-  o.t_ns = t;
-  o.x = state_.imu();
-  o.phase = phase_.phase();
-  const int d = state_.imu_dim();
-  o.sigma = state_.P().topLeftCorner(d, d).diagonal().cwiseSqrt();
-  o.cov_theta = state_.P().block<3, 3>(imu_idx::kTheta, imu_idx::kTheta);
-  o.cov_p = state_.P().block<3, 3>(imu_idx::kP, imu_idx::kP);
-  o.F_ext_I.setZero();
-  o.F_ext_W.setZero();
-  o.cov_F_I.setZero();
-  o.cov_F_W.setZero();
-  if (state_.with_force()) {
-    const ForceEstimate f = force_output(state_);
-    o.F_ext_I = f.F_I;
-    o.F_ext_W = f.F_W;
-    o.cov_F_I = f.cov_F_I;
-    o.cov_F_W = f.cov_F_W;
-  }
-  if (state_.with_thrust_scale()) {
-    const int is = state_.layout().thrust_scale_index();
-    o.sigma_thrust_scale = std::sqrt(std::max(0.0, state_.P()(is, is)));
-  }
-  o.time_offset_s = time_offset_s();
-  o.sigma_time_offset_s = state_.time_offset_sigma();
-  o.status = status_;
-  if (lagged_) lagged_->add_causal(o);
-  if (on_estimate_) on_estimate_(o);
 }
 
 }  // namespace vid

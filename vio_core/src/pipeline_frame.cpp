@@ -11,9 +11,9 @@
 #include "vio_core/fixed_lag.h"  // complete type for lagged_
 #include "vio_core/msckf/clone_poses.h"
 #include "vio_core/msckf/feature_database.h"
-#include "vio_core/msckf/visual_update.h"
 #include "vio_core/pipeline.h"
 #include "vio_core/rate_fit.h"
+#include "vio_core/visual_updater.h"
 
 namespace vid {
 using namespace pipeline_detail;
@@ -95,21 +95,8 @@ void Pipeline::process_frame(const FeatureFrame& f, TimeNs stamp, const Eigen::V
     tracks.resize(static_cast<std::size_t>(p.max_features_per_update));
   }
   if (p.visual_update && !tracks.empty() && !config_.cameras.empty()) {
-    std::vector<msckf::CameraExtrinsic> extrinsics;
-    for (const CameraCalib& c : config_.cameras) {
-      msckf::CameraExtrinsic e;
-      e.T_IC = c.T_IC;
-      extrinsics.push_back(e);
-    }
-    const CameraCalib& c0 = config_.cameras.front();
-    msckf::VisualUpdateParams vp;
-    vp.sigma_norm = p.pixel_noise_px / (0.5 * (c0.intrinsics[0] + c0.intrinsics[1]));
-    vp.chi2_multiplier = p.chi2_multiplier;
-    vp.min_observations = p.min_track_length;
-    vp.compression = p.msckf_normal_equations ? msckf::Compression::kNormalEquations : msckf::Compression::kQr;
-    vp.triangulation.max_condition = p.triangulation_max_condition;
-    const msckf::VisualLinearSystem sys =
-        msckf::build_visual_update(tracks, clones, extrinsics, state_.P(), vp);
+    bool applied = false;
+    const msckf::VisualLinearSystem sys = visual_->update(state_, tracks, clones, &applied);
     tm.features_used += sys.features_used;
     tm.features_rejected += sys.features_rejected_chi2 + sys.features_rejected_triangulation;
     tm.features_rejected_chi2 += sys.features_rejected_chi2;
@@ -119,11 +106,7 @@ void Pipeline::process_frame(const FeatureFrame& f, TimeNs stamp, const Eigen::V
     counters_.visual_chi2_sum += sys.chi2_sum;
     counters_.visual_dof_sum += sys.dof_sum;
     counters_.features_too_short += sys.features_too_short;
-    if (sys.H.rows() > 0) {
-      const Eigen::MatrixXd R =
-          Eigen::MatrixXd::Identity(sys.H.rows(), sys.H.rows()) * sys.noise_var;
-      if (ekf_update(state_, sys.H, sys.r, R).applied) ++counters_.visual_updates;
-    }
+    if (applied) ++counters_.visual_updates;
   }
   tm.msckf_update_ms = ms_since(t_frame);
   check_health(f.t_ns, tm.features_used, tm.features_rejected_chi2, tm.features_rejected - tm.features_rejected_chi2);

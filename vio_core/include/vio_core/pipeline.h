@@ -43,6 +43,7 @@
 
 namespace vid {
 class FixedLagOutput;
+class VisualUpdater;
 namespace msckf {
 class FeatureDatabase;
 struct ClonePose;
@@ -156,6 +157,7 @@ class Pipeline {
   TimeNs thrust_delay_ns_ = 0;  ///< EstimatorParams::thrust_delay_s
   bool tilted_thrust_ = false;  ///< VehicleParams::thrust_axis_I is not z
   std::unique_ptr<msckf::FeatureDatabase> features_;
+  std::unique_ptr<VisualUpdater> visual_;  ///< the MSCKF update with its options (built once)
   std::deque<ImuSample> imu_queue_;
   std::deque<GyroSample> gyro_history_;  ///< processed samples, the last kTdRateHalfWindowNs (with t_d)
   std::deque<FeatureFrame> frame_queue_;
