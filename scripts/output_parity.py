@@ -96,7 +96,7 @@ def run(build: pathlib.Path, out: pathlib.Path) -> None:
                             "--methods", "ekf,ukf,msckf,swls,elm,relm,oselm"])
     step("vid_massid elm-study", [b / "vid_massid", "elm-study", "--dataset", work / "massid_data",
                                   "--out", work / "elm_study", "--n-train", 1, "--max-train", 1,
-                                  "--test-per-profile", 1, "--test-first", 2, "--hidden", 10, 20, "--repeats", 1, "--python", ""])
+                                  "--test-per-profile", 1, "--test-first", 2, "--hidden", 10, 20, "--repeats", 1])
     shutil.rmtree(out, ignore_errors=True)
     out.parent.mkdir(parents=True, exist_ok=True)
     # The LCM event log carries wall-clock receive times: keep only what vid_live made of it.

@@ -2,15 +2,15 @@
 /// @brief `vid_massid elm-study`: the data-driven study of seed section 6.3 — tables 1-3
 /// (hidden nodes ELM vs RELM, lambda sweep, number of training datasets), a method table
 /// (ELM / RELM / OSELM at the seed's setting) and the series behind figures 13-17 (estimate vs
-/// truth per trajectory and mass profile), plotted by eval/vid_eval/elm_plots.py.
+/// truth per trajectory and mass profile), plotted by `vid-eval elm-plots` (--plots).
 #include <spdlog/spdlog.h>
 
 #include <chrono>
-#include <cstdlib>
 #include <filesystem>
 #include <memory>
 
 #include "app/progress.h"
+#include "app/view_launch.h"
 #include "commands.h"
 #include "massid/elm/study.h"
 #include "massid/elm/study_tables.h"
@@ -39,8 +39,7 @@ struct StudyOptions {
   std::vector<double> windows;
   int stride = 0;
   double weight_scale = 0.0;
-  std::string python;
-  std::string plot_script = "eval/vid_eval/elm_plots.py";
+  bool plots = false;
 };
 
 bool wants(const StudyOptions& o, int t) {
@@ -161,14 +160,7 @@ int run_study(const StudyOptions& o) {
                           me::SweepKind::kTrainingSets, t3_rows);
   spdlog::info("tables written to {}", out.string());
 
-  if (!o.python.empty() && wants(o, 0)) {
-    if (!std::filesystem::exists(o.plot_script)) {
-      throw std::runtime_error(o.plot_script + ": plot script not found (--plot-script)");
-    }
-    const std::string cmd = "\"" + o.python + "\" \"" + o.plot_script + "\" \"" + out.string() + "\"";
-    spdlog::info("plotting: {}", cmd);
-    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("plotting failed: " + cmd);
-  }
+  if (o.plots && wants(o, 0)) app::run_vid_eval("vid_massid", {"elm-plots", out.string()}, "vid_massid elm-study: --plots");
   return 0;
 }
 
@@ -203,9 +195,8 @@ void add_elm_study_command(CLI::App& cli, int* exit_code) {
   cmd->add_option("--stride", o->stride, "Training stride in samples (default 5)")->check(CLI::Range(1, 1000));
   cmd->add_option("--weight-scale", o->weight_scale, "Half-width of the input weights (0 = 2/sqrt(d))")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--python", o->python, "Python interpreter to draw the figures with (e.g. "
-                  ".venv/bin/python); empty = no figures");
-  cmd->add_option("--plot-script", o->plot_script, "Path of elm_plots.py");
+  cmd->add_flag("--plots", o->plots, "Also draw the figures (`vid-eval elm-plots OUT`; vid-eval found as "
+                "$VID_EVAL, on PATH or in the repository's .venv)");
   cmd->callback([o, exit_code]() { *exit_code = run_study(*o); });
 }
 

@@ -1,16 +1,16 @@
 /// @file run_report_cmd.cpp
 /// @brief `vid_massid run` (methods over a study dataset -> OUT/runs.csv + per-run estimates)
 /// and `vid_massid report` (per-trajectory tables like the seed's figures 7-11 + PNG plots
-/// drawn by eval/vid_eval/massid_plots.py).
+/// drawn by `vid-eval massid-plots`).
 #include <spdlog/spdlog.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include "app/progress.h"
+#include "app/view_launch.h"
 #include "commands.h"
 #include "massid/filters/study_io.h"
 #include "massid/filters/study_runner.h"
@@ -27,7 +27,7 @@ struct RunOptions {
 };
 
 struct ReportOptions {
-  std::string results, python, script;
+  std::string results;
   bool no_plots = false;
 };
 
@@ -72,16 +72,6 @@ int run_methods(const RunOptions& o) {
   return 0;
 }
 
-fs::path repo_root_guess() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  // <root>/<build dir>/bin/vid_massid
-  if (!ec && fs::exists(exe.parent_path().parent_path().parent_path() / "eval/vid_eval")) {
-    return exe.parent_path().parent_path().parent_path();
-  }
-  return fs::current_path();
-}
-
 int run_report(const ReportOptions& o) {
   const fs::path results(o.results);
   const auto rows = massid::read_runs_csv(results / "runs.csv");
@@ -89,17 +79,9 @@ int run_report(const ReportOptions& o) {
   std::cout << massid::write_tables(rows, report_dir);
   spdlog::info("tables in {}", report_dir.string());
   if (o.no_plots) return 0;
-  const fs::path root = repo_root_guess();
-  const fs::path script = o.script.empty() ? root / "eval/vid_eval/massid_plots.py" : fs::path(o.script);
-  if (!fs::exists(script)) throw std::runtime_error(script.string() + ": plot script not found (use --plots-script or --no-plots)");
-  std::string python = o.python;
-  if (python.empty() && std::getenv("VID_PYTHON")) python = std::getenv("VID_PYTHON");
-  if (python.empty()) python = fs::exists(root / ".venv/bin/python") ? (root / ".venv/bin/python").string() : "python3";
-  const std::string cmd = "'" + python + "' '" + script.string() + "' --results '" + results.string() +
-                          "' --out '" + (report_dir / "plots").string() + "'";
-  spdlog::info("plots: {}", cmd);
-  const int rc = std::system(cmd.c_str());
-  if (rc != 0) throw std::runtime_error("plot script failed (exit " + std::to_string(rc) + "): " + cmd);
+  app::run_vid_eval("vid_massid",
+                     {"massid-plots", "--results", results.string(), "--out", (report_dir / "plots").string()},
+                     "vid_massid report: plots (--no-plots for tables only)");
   return 0;
 }
 
@@ -126,8 +108,6 @@ void add_run_report_commands(CLI::App& cli, int* exit_code) {
                                                "mass estimate vs truth from a `run` output folder.");
   rep->add_option("--results", po->results, "output folder of `vid_massid run`")->required()->check(CLI::ExistingDirectory);
   rep->add_flag("--no-plots", po->no_plots, "tables only");
-  rep->add_option("--python", po->python, "Python with matplotlib (default: $VID_PYTHON, <repo>/.venv/bin/python)");
-  rep->add_option("--plots-script", po->script, "plot script (default: <repo>/eval/vid_eval/massid_plots.py)");
   rep->callback([po, exit_code]() { *exit_code = run_report(*po); });
 }
 

@@ -1,4 +1,5 @@
-"""``vid-eval`` entry point: sub-commands traj, force, mass, report, force-bound, nees, view, mocap-truth.
+"""``vid-eval`` entry point: sub-commands traj, force, mass, report, force-bound, nees, view, mocap-truth,
+massid-plots, elm-plots.
 
 Any :class:`~vid_eval.errors.VidEvalError` (bad file, no overlap, missing mass, ...) is
 printed as one line ``vid-eval: error: ...`` on stderr with exit status 1; usage errors
@@ -10,7 +11,7 @@ import argparse
 import sys
 from typing import List, Optional
 
-from .commands import bound, force, mass, mocap_truth, nees, report, traj, view
+from .commands import bound, force, mass, mocap_truth, nees, report, study_plots, traj, view
 from .errors import VidEvalError
 from .usage import OneLineParser
 
@@ -25,7 +26,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "external force, mass; plots and comparison tables.")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
-    for mod in (traj, force, mass, report, bound, nees, view, mocap_truth):
+    for mod in (traj, force, mass, report, bound, nees, view, mocap_truth, study_plots):
         mod.add_parser(sub)
     return p
 

@@ -80,3 +80,20 @@ def test_report_without_runs_names_the_file(study, tmp_path):
     r = subprocess.run([prog, "report", "--results", tmp_path], capture_output=True, text=True)
     assert r.returncode != 0
     assert "runs.csv" in r.stderr
+
+
+def test_report_without_vid_eval_keeps_the_tables_and_says_so(study, tmp_path):
+    """The figures come from the installed `vid-eval massid-plots`, never a guessed script path:
+    without it, one line naming what to do, a non-zero exit, and the tables already written."""
+    import os
+    import shutil
+
+    prog, _, out, _ = study
+    results = tmp_path / "results"
+    shutil.copytree(out, results, ignore=shutil.ignore_patterns("report"))
+    env = {**os.environ, "VID_EVAL": str(tmp_path / "no-such-vid-eval")}
+    r = subprocess.run([prog, "report", "--results", results], capture_output=True, text=True, env=env)
+    assert r.returncode != 0
+    errors = [line for line in r.stderr.splitlines() if "error" in line]
+    assert len(errors) == 1 and "vid-eval not found" in errors[0] and "--no-plots" in errors[0], r.stderr
+    assert (results / "report" / "summary.md").stat().st_size > 0

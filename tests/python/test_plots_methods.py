@@ -4,23 +4,17 @@ The figures are checked as rendered: hiding any labelled curve must change pixel
 from __future__ import annotations
 
 import csv
-import importlib.util
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from plot_checks import hidden_curves
-from test_vid_run_helpers import REPO
-from vid_eval import massid_plots
+from vid_eval.plots import elm_study
+from vid_eval.plots import massid_study as massid_plots
 from vid_eval.plots.methods import CaseSeries, methods_grid, rmspe
-
-
-def _elm_plots():
-    """eval/vid_eval/elm_plots.py as vid_massid runs it (a script in the package folder)."""
-    spec = importlib.util.spec_from_file_location("elm_plots", REPO / "eval" / "vid_eval" / "elm_plots.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
 
 
 def _series(tmp_path, rng):
@@ -41,7 +35,7 @@ def _series(tmp_path, rng):
 
 def test_elm_grid_shows_every_method_and_the_truth(tmp_path):
     files = _series(tmp_path, np.random.default_rng(7))
-    fig = _elm_plots().elm_figure("lemniscate", files)
+    fig = elm_study.elm_figure("lemniscate", files)
     titles = [ax.get_title() for ax in fig.axes]
     assert len(fig.axes) == 2 * 3  # profiles x methods
     assert [t.split(":")[0] for t in titles[:3]] == ["relm", "elm", "oselm"]
@@ -51,11 +45,22 @@ def test_elm_grid_shows_every_method_and_the_truth(tmp_path):
     assert hidden_curves(fig) == []
 
 
+def test_elm_plots_command_writes_each_trajectory(tmp_path):
+    """`vid-eval elm-plots OUT`, as `vid_massid elm-study --plots` runs it."""
+    _series(tmp_path, np.random.default_rng(7))
+    vid_eval = Path(sys.executable).parent / "vid-eval"
+    r = subprocess.run([vid_eval, "elm-plots", tmp_path], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "figures" / "elm_lemniscate.png").stat().st_size > 10000
+    r = subprocess.run([vid_eval, "elm-plots", tmp_path / "nothing"], capture_output=True, text=True)
+    assert r.returncode == 1 and r.stderr.count("\n") == 1 and "no series/ folder" in r.stderr, r.stderr
+
+
 def test_hidden_nodes_plot_shows_equal_elm_and_relm(tmp_path):
     rows = [{"trajectory": tr, "method": m, "hidden": str(L), "test_rmse_pct": str(2 + 0.001 * L + k),
              "weight_norm": str(3 + 0.01 * L + 2 * k)}
             for k, tr in enumerate(("loop", "square")) for m in ("elm", "relm") for L in (50, 100, 200, 400)]
-    fig = _elm_plots().hidden_nodes_figure(rows)
+    fig = elm_study.hidden_nodes_figure(rows)
     assert hidden_curves(fig) == []
     assert {ln.get_label() for ln in fig.axes[0].get_lines()} == {"loop elm", "loop relm", "square elm", "square relm"}
 

@@ -38,27 +38,38 @@ std::optional<fs::path> find_vid_eval(const char* argv0) {
   return std::nullopt;
 }
 
-void write_rerun_recording(const char* argv0, const fs::path& run_dir, const std::optional<fs::path>& dataset,
-                           const fs::path& rrd) {
+void run_vid_eval(const char* argv0, const std::vector<std::string>& args, const std::string& context) {
   const auto tool = find_vid_eval(argv0);
   if (!tool)
-    throw std::runtime_error("--rerun: vid-eval not found (set VID_EVAL, put it on PATH, or run scripts/setup.sh)");
-  std::vector<std::string> args = {tool->string(), "view", run_dir.string(), "--rrd", rrd.string()};
-  if (dataset) {
-    args.push_back("--dataset");
-    args.push_back(dataset->string());
-  }
+    throw std::runtime_error(context + ": vid-eval not found (set VID_EVAL, put it on PATH, or run scripts/setup.sh)");
+  std::vector<std::string> argv = {tool->string()};
+  argv.insert(argv.end(), args.begin(), args.end());
   std::vector<char*> cargs;
-  for (auto& a : args) cargs.push_back(a.data());
+  for (auto& a : argv) cargs.push_back(a.data());
   cargs.push_back(nullptr);
   pid_t pid = 0;
   if (posix_spawn(&pid, cargs[0], nullptr, nullptr, cargs.data(), environ) != 0)
-    throw std::runtime_error("--rerun: cannot start " + args[0]);
+    throw std::runtime_error(context + ": cannot start " + argv[0]);
   int status = 0;
   while (waitpid(pid, &status, 0) < 0) {
   }
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    throw std::runtime_error("--rerun: " + args[0] + " view failed (its message is above); the run's outputs are kept");
+    throw std::runtime_error(context + ": " + argv[0] + " " + (args.empty() ? "" : args[0]) +
+                             " failed (its message is above)");
+}
+
+void write_rerun_recording(const char* argv0, const fs::path& run_dir, const std::optional<fs::path>& dataset,
+                           const fs::path& rrd) {
+  std::vector<std::string> args = {"view", run_dir.string(), "--rrd", rrd.string()};
+  if (dataset) {
+    args.push_back("--dataset");
+    args.push_back(dataset->string());
+  }
+  try {
+    run_vid_eval(argv0, args, "--rerun");
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string(e.what()) + "; the run's outputs are kept");
+  }
 }
 
 }  // namespace vid::app

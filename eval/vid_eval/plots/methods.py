@@ -65,3 +65,8 @@ def methods_grid(cases: Sequence[CaseSeries], methods: Sequence[str], title: str
 def method_names(header: List[str], skip: Sequence[str]) -> List[str]:
     """Method columns of an estimates CSV header: everything but ``skip``."""
     return [h for h in header if h not in skip]
+
+
+def ordered(names, order: Sequence[str]) -> List[str]:
+    """The names in the given order first, then the rest sorted (profiles, trajectories, methods)."""
+    return [n for n in order if n in names] + sorted(n for n in names if n not in order)

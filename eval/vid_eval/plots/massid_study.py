@@ -1,4 +1,5 @@
-"""Plots of the mass-identification study (seed figures 7-11), called by `vid_massid report`.
+"""Plots of the mass-identification study (seed figures 7-11): `vid-eval massid-plots`, which
+`vid_massid report` runs.
 
 Reads OUT/runs.csv and OUT/estimates/<trajectory>/<profile>/run_NNN.csv written by
 `vid_massid run` and writes, into --out:
@@ -12,10 +13,8 @@ Reads OUT/runs.csv and OUT/estimates/<trajectory>/<profile>/run_NNN.csv written 
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import pathlib
-import sys
 
 import matplotlib
 
@@ -23,18 +22,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from vid_eval.plots.methods import CaseSeries, methods_grid  # noqa: E402  (run as a script by vid_massid)
-from vid_eval.usage import OneLineParser  # noqa: E402
+from .methods import CaseSeries, methods_grid, ordered  # noqa: E402
 
 PROFILE_ORDER = ["constant", "linear_decrease", "step_drop", "step_pickup", "up_down"]
 TRAJ_ORDER = ["random", "loop", "lemniscate", "zigzag", "square"]
 METHOD_ORDER = ["ekf", "ukf", "msckf", "swls"]  # the first is the reference the others are compared to
 NOT_METHODS = ("t", "mass_true", "thrust_cmd", "wx", "wy", "wz")
 GRAVITY = 9.81
-
-
-def _ordered(names, order):
-    return [n for n in order if n in names] + sorted(n for n in names if n not in order)
 
 
 def read_estimates(path: pathlib.Path) -> dict[str, np.ndarray]:
@@ -82,21 +76,21 @@ def trajectory_figure(traj: str, runs: dict[tuple[str, str], pathlib.Path]):
     """A row per mass profile, a column per method, each with the truth (vid_eval.plots.methods:
     overlaid, the filters' converged estimates hid each other)."""
     cases = []
-    for prof in _ordered({p for (t, p) in runs if t == traj}, PROFILE_ORDER):
+    for prof in ordered({p for (t, p) in runs if t == traj}, PROFILE_ORDER):
         d = read_estimates(runs[(traj, prof)])
         ests = {k: v for k, v in d.items() if k not in NOT_METHODS}
         cases.append(CaseSeries(f"{prof} ({runs[(traj, prof)].stem})", d["t"], d["mass_true"], ests))
-    methods = _ordered(set(cases[0].estimates), METHOD_ORDER)
+    methods = ordered(set(cases[0].estimates), METHOD_ORDER)
     # the first 0.1-0.3 s of start-up transients would squeeze the rest into a line
     return methods_grid(cases, methods, f"{traj}: mass estimates of the filters",
                         ylim=lambda c: (0.7 * c.truth.min(), 1.35 * c.truth.max()))
 
 
 def plot_inputs(runs: dict[tuple[str, str], pathlib.Path], out: pathlib.Path) -> pathlib.Path:
-    trajs = _ordered({t for (t, _) in runs}, TRAJ_ORDER)
+    trajs = ordered({t for (t, _) in runs}, TRAJ_ORDER)
     fig, axes = plt.subplots(len(trajs), 2, figsize=(11, 2.2 * len(trajs)), sharex=True, squeeze=False)
     for row, traj in zip(axes, trajs):
-        prof = _ordered({p for (t, p) in runs if t == traj}, PROFILE_ORDER)[0]
+        prof = ordered({p for (t, p) in runs if t == traj}, PROFILE_ORDER)[0]
         d = read_estimates(runs[(traj, prof)])
         twr = d["thrust_cmd"] / (d["mass_true"] * GRAVITY)
         w = np.sqrt(d["wx"] ** 2 + d["wy"] ** 2 + d["wz"] ** 2)
@@ -115,25 +109,3 @@ def plot_inputs(runs: dict[tuple[str, str], pathlib.Path], out: pathlib.Path) ->
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
-
-
-def main(argv: list[str] | None = None) -> int:
-    ap = OneLineParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--results", required=True, type=pathlib.Path, help="output folder of vid_massid run")
-    ap.add_argument("--out", required=True, type=pathlib.Path, help="folder for the PNG files")
-    a = ap.parse_args(argv)
-    try:
-        runs = find_runs(a.results)
-        a.out.mkdir(parents=True, exist_ok=True)
-        written = [plot_trajectory(t, runs, a.out) for t in _ordered({t for (t, _) in runs}, TRAJ_ORDER)]
-        written.append(plot_inputs(runs, a.out))
-    except (ValueError, OSError) as e:
-        print(f"massid_plots: error: {e}", file=sys.stderr)
-        return 1
-    for p in written:
-        print(p)
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,6 +1,6 @@
-"""Figures of the data-driven mass-identification study (seed figures 13-17 analogs).
+"""Figures of the data-driven mass-identification study (seed figures 13-17 analogs):
+`vid-eval elm-plots OUT_DIR`, which `vid_massid elm-study --plots` runs.
 
-Usage: python elm_plots.py OUT_DIR
 Reads OUT_DIR/series/<trajectory>__<profile>.csv (written by `vid_massid elm-study`:
 t, mass_true, then one column per method) and writes
   OUT_DIR/figures/elm_<trajectory>.png   estimate vs truth: a row per mass profile, a column
@@ -11,7 +11,6 @@ t, mass_true, then one column per method) and writes
 from __future__ import annotations
 
 import csv
-import sys
 from collections import defaultdict
 from pathlib import Path
 
@@ -21,7 +20,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from vid_eval.plots.methods import CaseSeries, methods_grid  # noqa: E402  (run as a script by vid_massid)
+from .methods import CaseSeries, methods_grid, ordered  # noqa: E402
 
 PROFILE_ORDER = ["constant", "linear_decrease", "step_drop", "step_pickup", "up_down"]
 METHOD_ORDER = ["relm", "elm", "oselm"]  # the first is the reference the others are compared to
@@ -38,17 +37,13 @@ def read_series(path: Path) -> tuple[list[str], np.ndarray]:
     return header, data
 
 
-def _ordered(names, order):
-    return [n for n in order if n in names] + sorted(n for n in names if n not in order)
-
-
 def elm_figure(traj: str, files: dict[str, Path]):
     """One row per mass profile, one column per method (each with the truth), see
     vid_eval.plots.methods."""
     cases, methods = [], None
-    for profile in _ordered(files, PROFILE_ORDER):
+    for profile in ordered(files, PROFILE_ORDER):
         header, d = read_series(files[profile])
-        methods = methods or _ordered(header[2:], METHOD_ORDER)
+        methods = methods or ordered(header[2:], METHOD_ORDER)
         cases.append(CaseSeries(profile, d[:, 0], d[:, 1],
                                 {name: d[:, j] for j, name in enumerate(header) if j >= 2}))
     return methods_grid(cases, methods, f"{traj}: data-driven mass estimates on held-out runs")
@@ -66,7 +61,7 @@ def plot_trajectories(out: Path) -> list[Path]:
     plotted_profiles = set()
     for traj, files in groups.items():
         fig = elm_figure(traj, files)
-        for profile in _ordered(files, PROFILE_ORDER):
+        for profile in ordered(files, PROFILE_ORDER):
             if profile not in plotted_profiles:
                 _, d = read_series(files[profile])
                 pax.plot(d[:, 0], d[:, 1] / d[0, 1], label=profile)
@@ -139,21 +134,3 @@ def plot_hidden_nodes(out: Path) -> list[Path]:
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return [path]
-
-
-def main(argv: list[str]) -> int:
-    if len(argv) != 2:
-        print(__doc__, file=sys.stderr)
-        return 2
-    out = Path(argv[1])
-    if not (out / "series").is_dir() and not (out / "table1_hidden_nodes.csv").exists():
-        print(f"elm_plots: {out}: no series/ folder or table1_hidden_nodes.csv", file=sys.stderr)
-        return 1
-    written = plot_trajectories(out) + plot_hidden_nodes(out)
-    for p in written:
-        print(p)
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv))
