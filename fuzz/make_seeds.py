@@ -108,7 +108,7 @@ def lcm_seeds() -> None:
 
 def py_loader_seeds() -> None:
     sys.path.insert(0, str(ROOT / "eval"))
-    from vid_eval import formats
+    from vid_eval.core import formats
 
     def table(names, row):
         return "#" + ",".join(names) + "\n" + "".join(",".join(str(v) for v in r) + "\n" for r in row)

@@ -42,7 +42,7 @@ from scipy.stats import chi2
 REPO = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "eval"))
 
-from vid_eval.sim_runs import config_with_overrides  # noqa: E402
+from vid_eval.tools.sim_runs import config_with_overrides  # noqa: E402
 
 # IMU noise of this flight, measured on it in flight (vibration included) by `vid-allan --flight`:
 # gyro minus the mocap body rate 5.74e-3 rad/s/sqrt(Hz) (an upper bound: the mocap's own noise is

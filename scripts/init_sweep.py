@@ -27,8 +27,8 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "eval"))
-from vid_eval.loaders import dataset_first_time_ns, load_trajectory  # noqa: E402
-from vid_eval.ate import compute_ate  # noqa: E402
+from vid_eval.tools.loaders import dataset_first_time_ns, load_trajectory  # noqa: E402
+from vid_eval.core.ate import compute_ate  # noqa: E402
 
 
 def run(vid_run, dataset, out, config, start, seconds, init):

@@ -12,7 +12,7 @@ For each preset and seed, vid_sim writes the sequence (features only, 60 s); the
   measured rotor speeds; initial guess = vehicle.yaml mass, as the VIO's), and
   ``vid_massid run --methods ekf,ukf,msckf,swls`` estimates it.
 
-Every estimate is scored by the same code (vid_eval.mass_metrics): RMSPE after the first 5 s
+Every estimate is scored by the same code (vid_eval.core.mass_metrics): RMSPE after the first 5 s
 and, after each change of the true mass, the time until the estimate stays within 5 %.
 
   .venv/bin/python scripts/massid_vs_vio.py --presets vid_loaded spraying payload_heavy \\
@@ -34,11 +34,11 @@ import yaml
 REPO = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "eval"))
 
-from vid_eval.loaders import load_mass  # noqa: E402
-from vid_eval.mass_metrics import MassResult  # noqa: E402
-from vid_eval.pairing import PairingOptions, pair_scalars  # noqa: E402
-from vid_eval.series import ScalarSeries  # noqa: E402
-from vid_eval.sim_runs import config_with_overrides, simulate  # noqa: E402
+from vid_eval.tools.loaders import load_mass  # noqa: E402
+from vid_eval.core.mass_metrics import MassResult  # noqa: E402
+from vid_eval.core.pairing import PairingOptions, pair_scalars  # noqa: E402
+from vid_eval.core.series import ScalarSeries  # noqa: E402
+from vid_eval.tools.sim_runs import config_with_overrides, simulate  # noqa: E402
 
 METHODS = ("ekf", "ukf", "msckf", "swls")
 SKIP_NS = 5_000_000_000  # RMSPE after the first 5 s

@@ -39,7 +39,7 @@ import numpy as np
 REPO = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "eval"))
 
-from vid_eval.sim_runs import config_with_overrides, resolve_path, score_run, simulate  # noqa: E402
+from vid_eval.tools.sim_runs import config_with_overrides, resolve_path, score_run, simulate  # noqa: E402
 
 
 def _bin(build: pathlib.Path, name: str) -> str:

@@ -35,8 +35,8 @@ import numpy as np
 from scipy import signal
 from scipy.spatial.transform import Rotation
 
-from vid_eval.loaders import load_imu, load_rotor_speeds, load_vehicle
-from vid_eval.table_reader import read_table
+from vid_eval.tools.loaders import load_imu, load_rotor_speeds, load_vehicle
+from vid_eval.tools.table_reader import read_table
 
 BAND_HZ = (10.0, 45.0)
 LOWPASS_HZ = 5.0

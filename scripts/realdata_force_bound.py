@@ -31,8 +31,8 @@ from scipy.spatial.transform import Rotation
 
 REPO = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "eval"))
-from vid_eval.loaders import load_vehicle  # noqa: E402
-from vid_eval.table_reader import read_table  # noqa: E402
+from vid_eval.tools.loaders import load_vehicle  # noqa: E402
+from vid_eval.tools.table_reader import read_table  # noqa: E402
 
 
 def _table(path: pathlib.Path) -> np.ndarray:

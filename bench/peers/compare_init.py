@@ -29,8 +29,8 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "eval"))
-from vid_eval.ate import compute_ate  # noqa: E402
-from vid_eval.loaders import dataset_first_time_ns, load_trajectory  # noqa: E402
+from vid_eval.core.ate import compute_ate  # noqa: E402
+from vid_eval.tools.loaders import dataset_first_time_ns, load_trajectory  # noqa: E402
 
 
 def run(cmd: list[str]) -> int:

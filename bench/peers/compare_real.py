@@ -44,11 +44,11 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 from compare_vf import vid_eval_force  # noqa: E402
 from peers_common import ROOT, fmt, frame_ms, loadavg, publish_table, timed, trim_rows  # noqa: E402
 from real_data import prepare, window  # noqa: E402
-from vid_eval.ate import ate_of_paired  # noqa: E402
-from vid_eval.geometry import lerp, slerp_wxyz  # noqa: E402
-from vid_eval.loaders import load_trajectory  # noqa: E402
-from vid_eval.pairing import PairingOptions, pair_trajectories  # noqa: E402
-from vid_eval.series import Trajectory  # noqa: E402
+from vid_eval.core.ate import ate_of_paired  # noqa: E402
+from vid_eval.core.geometry import lerp, slerp_wxyz  # noqa: E402
+from vid_eval.tools.loaders import load_trajectory  # noqa: E402
+from vid_eval.core.pairing import PairingOptions, pair_trajectories  # noqa: E402
+from vid_eval.core.series import Trajectory  # noqa: E402
 
 WINDOWS = {"full": (0.0, 1000.0), "60s": (0.0, 60.0)}  # [start, length] s after the first IMU sample
 TABLE_ROWS = ["ours_dynamics", "ours_imu", "vf", "ov"]

@@ -37,13 +37,13 @@ def vid_eval_force(args, force_csv: pathlib.Path, traj: pathlib.Path, seq: pathl
 def plot_forces(args, key: str, seq: pathlib.Path, ours_dir: pathlib.Path, vf_dir: pathlib.Path,
                 sc: dict) -> None:
     """Truth, ours and VID-Fusion world force (each rotated into the truth's world with its own
-    posyaw trajectory alignment, vid_eval.gauge), one figure."""
+    posyaw trajectory alignment, vid_eval.tools.gauge), one figure."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from vid_eval.force_frames import newton_to_accel
-    from vid_eval.gauge import rotate_world, world_gauge_from_files
-    from vid_eval.loaders import load_force_estimate, load_force_gt, load_vehicle_mass
+    from vid_eval.core.force_frames import newton_to_accel
+    from vid_eval.tools.gauge import rotate_world, world_gauge_from_files
+    from vid_eval.tools.loaders import load_force_estimate, load_force_gt, load_vehicle_mass
 
     gt_traj = seq / "mav0" / "state_groundtruth_estimate0" / "data.csv"
     mass = load_vehicle_mass(seq / "mav0" / "vehicle.yaml")

@@ -12,12 +12,12 @@ import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "eval"))
-from vid_eval.alignment import AlignmentError  # noqa: E402
-from vid_eval.ate import ate_of_paired  # noqa: E402
-from vid_eval.loaders import load_trajectory  # noqa: E402
-from vid_eval.pairing import PairingOptions, pair_trajectories  # noqa: E402
-from vid_eval.rpe import compute_rpe  # noqa: E402
-from vid_eval.series import Trajectory  # noqa: E402
+from vid_eval.core.alignment import AlignmentError  # noqa: E402
+from vid_eval.core.ate import ate_of_paired  # noqa: E402
+from vid_eval.tools.loaders import load_trajectory  # noqa: E402
+from vid_eval.core.pairing import PairingOptions, pair_trajectories  # noqa: E402
+from vid_eval.core.rpe import compute_rpe  # noqa: E402
+from vid_eval.core.series import Trajectory  # noqa: E402
 
 DEFAULT_SEQS = ["vid17_like", "vid18_like", "euroc_like", "fast_yaw", "rope_snap", "impacts"]
 VF_SEQS = ["vid17_like", "vid18_like", "vid_loaded", "rope_snap", "impacts"]

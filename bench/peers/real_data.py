@@ -26,7 +26,7 @@ from peers_common import ROOT, trim_rows
 
 sys.path.insert(0, str(ROOT / "eval"))
 from vid_eval.importer.features import write_tum  # noqa: E402
-from vid_eval.loaders import load_trajectory  # noqa: E402
+from vid_eval.tools.loaders import load_trajectory  # noqa: E402
 
 SCENE = ROOT / "config" / "sim" / "recorded_room.yaml"
 # Measured on this flight in flight by `vid-allan --flight` (the same figures as

@@ -31,8 +31,8 @@ def seq(tmp_path_factory):
 
 @pytest.mark.parametrize("cams", [2, 1])
 def test_ov_driver_runs(seq, tmp_path, cams):
-    from vid_eval.ate import compute_ate
-    from vid_eval.loaders import load_trajectory
+    from vid_eval.core.ate import compute_ate
+    from vid_eval.tools.loaders import load_trajectory
 
     out = tmp_path / f"ov{cams}"
     r = subprocess.run([str(OV), "--dataset", str(seq), "--out", str(out), "--cams", str(cams),
@@ -90,7 +90,7 @@ def test_ov_driver_time_offset(seq, tmp_path):
 def test_ov_driver_init_groundtruth(seq, tmp_path):
     """--init-groundtruth: OpenVINS starts from the ground-truth state at the first frame (as its
     ros1_serial_msckf with path_gt) instead of waiting for the still start to be detected."""
-    from vid_eval.loaders import load_trajectory
+    from vid_eval.tools.loaders import load_trajectory
 
     out = tmp_path / "ovgt"
     r = subprocess.run([str(OV), "--dataset", str(seq), "--out", str(out), "--cams", "2",

@@ -34,8 +34,8 @@ def seq(tmp_path_factory):
 
 
 def test_vidfusion_driver_runs(seq, tmp_path):
-    from vid_eval.ate import compute_ate
-    from vid_eval.loaders import load_force_estimate, load_trajectory
+    from vid_eval.core.ate import compute_ate
+    from vid_eval.tools.loaders import load_force_estimate, load_trajectory
 
     out = tmp_path / "vf"
     r = subprocess.run([str(VF), "--dataset", str(seq), "--out", str(out)],

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""atheris target of vid-eval's file loaders (eval/vid_eval/loaders.py, table_reader.py).
+"""atheris target of vid-eval's file loaders (eval/vid_eval/tools/loaders.py, table_reader.py).
 
 Byte 0 mod 10 picks the loader (the digits '0'..'9' do): 0 TUM, 1 EuRoC pose CSV, 2 state.csv,
 3 format detection + load (.txt), 4 the same for .csv, 5 force.csv, 6 force0 CSV, 7 mass CSV,
@@ -18,7 +18,7 @@ import atheris
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "eval"))
 
 with atheris.instrument_imports():
-    from vid_eval import loaders
+    from vid_eval.tools import loaders
     from vid_eval.errors import VidEvalError
 
 # run.sh's scratch folder (removed after the run), else tmpfs: a file is written per input

@@ -7,7 +7,7 @@ from typing import Optional
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from vid_eval import formats
+from vid_eval.core import formats
 
 
 def smooth_trajectory(t_s: np.ndarray, seed: int = 0):

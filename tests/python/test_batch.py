@@ -89,7 +89,7 @@ def test_batch_killed_midway_resumes_only_missing_runs(killed_and_resumed):
 
 def test_batch_equals_runs_one_by_one(killed_and_resumed, tmp_path):
     """Same seeds -> the same numbers as simulating, estimating and scoring each run alone."""
-    from vid_eval.sim_runs import score_run
+    from vid_eval.tools.sim_runs import score_run
     out = killed_and_resumed["out"]
     rows = {r["id"]: r for r in pq.read_table(out / "results.parquet").to_pylist()}
     bindir = build_dir() / "bin"

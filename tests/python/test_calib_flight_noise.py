@@ -22,7 +22,7 @@ import pytest
 import yaml
 
 from test_vid_run_helpers import REPO, program
-from vid_eval.loaders import load_imu, load_rotor_speeds
+from vid_eval.tools.loaders import load_imu, load_rotor_speeds
 
 PRESET = REPO / "config" / "sim" / "vid17_real_sensors_short.yaml"
 TOL = 0.05

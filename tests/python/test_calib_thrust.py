@@ -22,7 +22,7 @@ import yaml
 from test_vid_run_helpers import REPO, program
 from vid_eval.calib.thrust_fit import FitInput, fit_thrust
 from vid_eval.calib.torque_rows import RotorGeometry, symmetric_torque_matrix, torque_rows
-from vid_eval.loaders import load_vehicle
+from vid_eval.tools.loaders import load_vehicle
 from plot_checks import assert_plot
 
 PRESET = REPO / "config" / "sim" / "thrust_fit.yaml"

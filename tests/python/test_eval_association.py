@@ -1,6 +1,6 @@
 """Nearest association equals evo's on ties and near ties (#26): the same pairs and the same
 ATE to 1e-9 on jittered epoch-time trajectories, TUM and ASL ground truth, equal lengths,
-time offsets. The rule is in vid_eval/association.py."""
+time offsets. The rule is in vid_eval/core/association.py."""
 from __future__ import annotations
 
 import numpy as np
@@ -9,9 +9,9 @@ from evo.core import metrics, sync
 from evo.tools import file_interface
 
 from eval_testdata import smooth_trajectory, write_euroc_gt
-from vid_eval.ate import compute_ate
-from vid_eval.loaders import load_trajectory
-from vid_eval.pairing import PairingOptions, pair_trajectories
+from vid_eval.core.ate import compute_ate
+from vid_eval.tools.loaders import load_trajectory
+from vid_eval.core.pairing import PairingOptions, pair_trajectories
 
 T0_NS = 1_403_636_579_763_555_000  # an epoch time like EuRoC's: doubles resolve ~0.24 us here
 

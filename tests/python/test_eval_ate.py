@@ -14,11 +14,11 @@ from scipy.optimize import minimize_scalar
 from scipy.spatial.transform import Rotation
 
 from eval_testdata import smooth_trajectory, write_euroc_gt, write_tum
-from vid_eval.alignment import align, posyaw
-from vid_eval.ate import ate_posyaw, compute_ate
-from vid_eval.geometry import rot_z
-from vid_eval.loaders import load_trajectory
-from vid_eval.pairing import PairingOptions
+from vid_eval.core.alignment import align, posyaw
+from vid_eval.core.ate import ate_posyaw, compute_ate
+from vid_eval.core.geometry import rot_z
+from vid_eval.tools.loaders import load_trajectory
+from vid_eval.core.pairing import PairingOptions
 
 
 def _make_pair(tmp_path, case: int):
@@ -189,8 +189,8 @@ def test_pieces_after_a_reinitialization_are_aligned_on_their_own(tmp_path):
     lines = est.read_text().splitlines()
     lines.insert(1 + k, f"# re-initialized at {t[k]:.9f}: a new world frame from here on")
     est.write_text("\n".join(lines) + "\n")
-    from vid_eval.ate import compute_ate_pieces
-    from vid_eval.loaders import reinit_marks
+    from vid_eval.core.ate import compute_ate_pieces
+    from vid_eval.tools.loaders import reinit_marks
     marks = reinit_marks(est)
     assert marks.tolist() == [int(round(t[k] * 1e9))]
     res = compute_ate_pieces(load_trajectory(est), load_trajectory(gt), marks)
@@ -216,6 +216,6 @@ def test_a_bad_reinitialization_marker_names_its_line(tmp_path):
     est = write_tum(tmp_path / "est.txt", t, p, rot)
     est.write_text(est.read_text() + "# re-initialized at soon: a new world frame from here on\n")
     from vid_eval.errors import InputFormatError
-    from vid_eval.loaders import reinit_marks
+    from vid_eval.tools.loaders import reinit_marks
     with pytest.raises(InputFormatError, match=r"est.txt.*202|line 202"):
         reinit_marks(est)

@@ -14,9 +14,9 @@ from scipy.spatial.transform import Rotation
 
 from eval_testdata import (run_cli_in_process, smooth_trajectory, write_csv, write_euroc_gt,
                            write_force_estimate, write_state, write_tum)
-from vid_eval.alignment import Alignment
-from vid_eval.gauge import WorldGauge, rotate_world
-from vid_eval.series import VectorSeries
+from vid_eval.core.alignment import Alignment
+from vid_eval.tools.gauge import WorldGauge, rotate_world
+from vid_eval.core.series import VectorSeries
 
 MASS = 2.0
 C_WORLD = np.array([0.1, -0.2, 0.3])  # estimate error in the ground truth's world [m/s^2]

@@ -8,7 +8,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from eval_testdata import run_cli_in_process, write_csv, write_euroc_gt, write_force_estimate, write_state
-from vid_eval.mass_metrics import rmspe
+from vid_eval.core.mass_metrics import rmspe
 from plot_checks import assert_plot
 
 MASS = 2.0

@@ -7,12 +7,12 @@ from evo.core import sync
 from scipy.spatial.transform import Rotation, Slerp
 
 from eval_testdata import smooth_trajectory, write_euroc_gt, write_state, write_tum
-from vid_eval import formats
-from vid_eval.association import associate
+from vid_eval.core import formats
+from vid_eval.core.association import associate
 from vid_eval.errors import AssociationError
-from vid_eval.loaders import detect_trajectory_format, load_state, load_trajectory
-from vid_eval.pairing import PairingOptions, pair_trajectories
-from vid_eval.series import Trajectory
+from vid_eval.tools.loaders import detect_trajectory_format, load_state, load_trajectory
+from vid_eval.core.pairing import PairingOptions, pair_trajectories
+from vid_eval.core.series import Trajectory
 
 
 def test_state_header_is_the_documented_contract():

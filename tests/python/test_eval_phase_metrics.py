@@ -1,4 +1,4 @@
-"""Per-phase force metrics (vid_eval.phase_metrics): settling after lift-off and touchdown, how
+"""Per-phase force metrics (vid_eval.core.phase_metrics): settling after lift-off and touchdown, how
 the step is measured, the landed error after 1 s on the ground, pose errors per phase."""
 from __future__ import annotations
 
@@ -7,11 +7,11 @@ import json
 import numpy as np
 import pytest
 
-from vid_eval.force_response import force_response
-from vid_eval.phase_metrics import (event_responses, force_phase_lines, force_phase_report,
+from vid_eval.core.force_response import force_response
+from vid_eval.core.phase_metrics import (event_responses, force_phase_lines, force_phase_report,
                                     landed_after, pose_phase_lines, pose_phase_report)
-from vid_eval.phases import segment_phases
-from vid_eval.series import ScalarSeries, VectorSeries
+from vid_eval.core.phases import segment_phases
+from vid_eval.core.series import ScalarSeries, VectorSeries
 
 G = 9.81
 T0 = 10**18

@@ -1,4 +1,4 @@
-"""phase0 loader and flight-phase segmentation (vid_eval.phases): events, windows, edge cases."""
+"""phase0 loader and flight-phase segmentation (vid_eval.core.phases): events, windows, edge cases."""
 from __future__ import annotations
 
 import numpy as np
@@ -6,9 +6,9 @@ import pytest
 
 from phase_testdata import write_phases
 from vid_eval.errors import InputFormatError
-from vid_eval.loaders import find_phases, load_phases
-from vid_eval.phases import segment_phases
-from vid_eval.series import ScalarSeries
+from vid_eval.tools.loaders import find_phases, load_phases
+from vid_eval.core.phases import segment_phases
+from vid_eval.core.series import ScalarSeries
 
 S = 1_000_000_000  # ns per s
 T0 = 10**18

@@ -171,8 +171,8 @@ def test_a_bad_phase0_is_one_line_naming_file_line_and_column(tmp_path):
 
 
 def test_plots_shade_landed_intervals_and_mark_events(tmp_path):
-    from vid_eval.loaders import load_phases
-    from vid_eval.phases import segment_phases
+    from vid_eval.tools.loaders import load_phases
+    from vid_eval.core.phases import segment_phases
     from vid_eval.plots.phases import shade_phases
     from vid_eval.plots.style import new_figure
 

@@ -7,7 +7,7 @@ import pytest
 
 from eval_testdata import run_cli_in_process
 
-from vid_eval.runs import load_run
+from vid_eval.tools.runs import load_run
 
 
 def _vid(*args):

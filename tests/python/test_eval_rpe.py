@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from vid_eval.rpe import compute_rpe, cumulative_distance, default_distances
-from vid_eval.series import Trajectory
+from vid_eval.core.rpe import compute_rpe, cumulative_distance, default_distances
+from vid_eval.core.series import Trajectory
 
 
 def _line(n=1001, step=0.1, yaw_per_m=0.0, scale=1.0):

@@ -1,11 +1,11 @@
-"""The idealized force-estimation bound (vid_eval.force_bound, `vid-eval force-bound`)."""
+"""The idealized force-estimation bound (vid_eval.core.force_bound, `vid-eval force-bound`)."""
 import json
 
 import numpy as np
 import pytest
 
 from vid_eval.cli import main
-from vid_eval.force_bound import (BoundSetup, _model, force_bound, kalman_force,
+from vid_eval.core.force_bound import (BoundSetup, _model, force_bound, kalman_force,
                                   resample_force, simulate_measurements, split_by_time_scale)
 
 

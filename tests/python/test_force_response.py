@@ -1,4 +1,4 @@
-"""Force response metrics (vid_eval.force_response) on synthetic series with known answers."""
+"""Force response metrics (vid_eval.core.force_response) on synthetic series with known answers."""
 from __future__ import annotations
 
 import json
@@ -6,9 +6,9 @@ import json
 import numpy as np
 import pytest
 
-from vid_eval.force_response import force_response
+from vid_eval.core.force_response import force_response
 from vid_eval.plots.force_response import plot_force_response
-from vid_eval.series import VectorSeries
+from vid_eval.core.series import VectorSeries
 from plot_checks import assert_plot
 
 T0_NS = 10**18

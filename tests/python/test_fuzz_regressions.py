@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from vid_eval import loaders
+from vid_eval.tools import loaders
 from vid_eval.errors import InputFormatError
 
 

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from test_import_synth import (MASS, csv_map, flight, hdf5_map, run_import, write_csv_log, write_hdf5_log)
-from vid_eval.loaders import load_imu, load_vehicle
-from vid_eval.table_reader import read_table
+from vid_eval.tools.loaders import load_imu, load_vehicle
+from vid_eval.tools.table_reader import read_table
 
 FLIGHT = flight()
 

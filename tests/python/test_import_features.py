@@ -10,7 +10,7 @@ import textwrap
 import numpy as np
 
 from test_import_synth import MASS, csv_map, flight, run_import, write_csv_log
-from vid_eval.loaders import load_tum
+from vid_eval.tools.loaders import load_tum
 
 FAKE = textwrap.dedent('''\
     import pathlib, sys

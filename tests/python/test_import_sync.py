@@ -9,8 +9,8 @@ import yaml
 from scipy.spatial.transform import Rotation
 
 from test_import_synth import MASS, _attitude, csv_map, flight, run_import, time_column
-from vid_eval.geometry import lerp, rot_from_wxyz, slerp_wxyz
-from vid_eval.table_reader import read_table
+from vid_eval.core.geometry import lerp, rot_from_wxyz, slerp_wxyz
+from vid_eval.tools.table_reader import read_table
 
 D_MOCAP_S = 0.0073   # mocap stamps late by 7.3 ms
 R_IM = Rotation.from_rotvec(np.radians(2.0) * np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8]))

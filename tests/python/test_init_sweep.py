@@ -36,7 +36,7 @@ def test_one_start_against_both_references(tmp_path):
 def test_dataset_first_time_is_the_earliest_stream_start(tmp_path):
     import pytest
     from vid_eval.errors import InputFormatError
-    from vid_eval.loaders import dataset_first_time_ns
+    from vid_eval.tools.loaders import dataset_first_time_ns
 
     seq = simulate_cached("vid17_like.yaml", 24.0, 1, True)
     firsts = [int(next(ln for ln in csv.read_text().splitlines() if ln and not ln.startswith("#")).split(",")[0])

@@ -57,8 +57,8 @@ def live(seq, log, out, *extra):
 
 
 def ate(out, seq):
-    from vid_eval.ate import compute_ate
-    from vid_eval.loaders import load_euroc_pose_csv, load_tum
+    from vid_eval.core.ate import compute_ate
+    from vid_eval.tools.loaders import load_euroc_pose_csv, load_tum
     gt = load_euroc_pose_csv(seq / "mav0" / "state_groundtruth_estimate0" / "data.csv")
     return compute_ate(load_tum(out / "trajectory_tum.txt"), gt, "posyaw").pos_rmse
 

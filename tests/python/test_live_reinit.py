@@ -7,8 +7,8 @@ new world frame in trajectory_tum.txt, and the piece after the re-initialization
 of the undisturbed run's ATE (the criterion of test_vid_run_reinit.py)."""
 import numpy as np
 import pytest
-from vid_eval.ate import compute_ate_pieces
-from vid_eval.loaders import load_euroc_pose_csv, load_tum, reinit_marks
+from vid_eval.core.ate import compute_ate_pieces
+from vid_eval.tools.loaders import load_euroc_pose_csv, load_tum, reinit_marks
 
 from test_live import live, program, run
 from test_vid_run_helpers import REPO, link_copy, replace_file, simulate_cached, summary, tum_rows, vid_run

@@ -8,9 +8,9 @@ import shutil
 import numpy as np
 import pytest
 
-from vid_eval.loaders import load_mass
-from vid_eval.mass_metrics import MassResult, settle_times
-from vid_eval.pairing import PairingOptions, pair_scalars
+from vid_eval.tools.loaders import load_mass
+from vid_eval.core.mass_metrics import MassResult, settle_times
+from vid_eval.core.pairing import PairingOptions, pair_scalars
 
 from ratchets import band, ratchet, target, target_not_met
 from test_vid_run_helpers import REPO, simulate_cached, summary, vid_run

@@ -14,8 +14,8 @@ from test_import_synth import G, MASS, T0_NS, _attitude, flight, run_eval
 from vid_eval.importer.force_truth import force_truth
 from vid_eval.importer.sync import gyro_mocap_sync, lag
 from vid_eval.importer.writer import DEFAULT_IMU_NOISE, Imported, write_dataset
-from vid_eval.loaders import load_force_gt
-from vid_eval.table_reader import read_table
+from vid_eval.tools.loaders import load_force_gt
+from vid_eval.tools.table_reader import read_table
 
 D_MOCAP_S = 0.0073                       # mocap stamps late by 7.3 ms
 R_IM = Rotation.from_rotvec(np.radians(2.0) * np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8]))
@@ -161,7 +161,7 @@ def test_stand_in_of_a_simulated_flight_round_trips_and_gives_its_force(tmp_path
     simulator's; mocap-truth's force0 is within 1 % (RMS) of the simulator's force0."""
     from test_import_synth import run_import
     from vid_eval.importer.standin import write_standin
-    from vid_eval.loaders import load_imu
+    from vid_eval.tools.loaders import load_imu
 
     sim = tmp_path / "sim"
     r = subprocess.run([str(cpp_program("vid_sim")), "--scenario", str(REPO / "config/sim/vid17_like_short.yaml"),

@@ -23,7 +23,7 @@ from eval_testdata import (run_cli_in_process, smooth_trajectory, write_csv, wri
                            write_force_estimate, write_state, write_tum)
 from plot_checks import changed_pixels, hidden_curves
 from test_vid_run_helpers import REPO
-from vid_eval.loaders import load_nees
+from vid_eval.tools.loaders import load_nees
 from vid_eval.plots.nees import nees_figure
 from vid_eval.plots.style import read_stamp
 

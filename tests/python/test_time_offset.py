@@ -8,7 +8,7 @@ import shutil
 import numpy as np
 import pytest
 from scipy.stats import chi2
-from vid_eval.time_offset_bound import rotation_bound
+from vid_eval.core.time_offset_bound import rotation_bound
 
 from ratchets import ratchet, target, target_not_met
 from test_vid_run_helpers import REPO, simulate, summary, vid_run
@@ -63,7 +63,7 @@ def at_seconds(t, values, seconds):
 def test_offset_estimated_online_noise_free(tmp_path, preset):
     """From t_d = 0 with sigma 20 ms, a true 10 ms offset (noise-free sensors): within 0.5 ms from
     10 s on, the estimate's sigma covers its error, and the sigma is the rotation path's
-    information bound (vid_eval.time_offset_bound) within 30 %: the filter uses what the flight
+    information bound (vid_eval.core.time_offset_bound) within 30 %: the filter uses what the flight
     offers. On fast_yaw (3 rad/s) the fresh clone's exact copy of the IMU pose once made the
     covariance check call P non-PD at 1.4 s."""
     seq = simulate(tmp_path / "seq", scenario(tmp_path, preset, "  time_offset_s: 0.010\n"), 20.0, 1, True,

@@ -15,8 +15,8 @@ import subprocess
 import time
 
 import numpy as np
-from vid_eval.ate import compute_ate
-from vid_eval.loaders import load_trajectory
+from vid_eval.core.ate import compute_ate
+from vid_eval.tools.loaders import load_trajectory
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 VENV_BIN = REPO / ".venv" / "bin"

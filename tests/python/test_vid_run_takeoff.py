@@ -13,7 +13,7 @@ import pytest
 
 from ratchets import ratchet, target, target_not_met
 from test_vid_run_helpers import REPO, first_timestamp_ns, run_and_score, simulate_cached, tum_rows
-from vid_eval.loaders import load_phases
+from vid_eval.tools.loaders import load_phases
 
 PRESET = "takeoff_landing_short.yaml"
 DURATION = 22.0

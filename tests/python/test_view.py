@@ -17,7 +17,7 @@ from scipy.spatial.transform import Rotation
 
 from eval_testdata import run_cli_in_process, smooth_trajectory, write_euroc_gt, write_force_estimate, write_state
 from test_vid_run_helpers import REPO, build_dir, program, simulate_cached, vid_run
-from vid_eval import formats
+from vid_eval.core import formats
 
 import rerun.chunk as rerun_chunk  # noqa: E402  (rerun-sdk: the view extra, scripts/setup.sh installs it)
 

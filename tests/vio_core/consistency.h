@@ -27,7 +27,7 @@ inline std::pair<double, double> nees_band(int runs) {
 }
 
 /// Write run-averaged NEES curves as the CSV that `vid-eval nees` reads and plots
-/// (eval/vid_eval/formats.py NEES_COLUMNS: the header first, then the run count and band).
+/// (eval/vid_eval/core/formats.py NEES_COLUMNS: the header first, then the run count and band).
 inline void write_nees_csv(const std::filesystem::path& path, int runs, const std::vector<double>& t,
                            const std::vector<double>& theta, const std::vector<double>& p,
                            const std::vector<double>& F, std::size_t stride = 1) {

@@ -14,7 +14,7 @@ import shutil
 import sys
 from typing import List, Optional
 
-from ..sim_runs import REPO
+from ..tools.sim_runs import REPO
 from .spec import BatchSpecError, load_batch
 from ..usage import OneLineParser
 

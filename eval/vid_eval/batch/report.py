@@ -2,7 +2,7 @@
 
 Groups of estimator runs = (scenario, configuration), configuration = estimator plus the
 grid's parameter values; the seeds of a group are its samples. Tables reuse vid-eval's
-comparison tables (vid_eval.tables: mean over repeats, scenario x configuration).
+comparison tables (vid_eval.tools.tables: mean over repeats, scenario x configuration).
 """
 from __future__ import annotations
 
@@ -12,9 +12,9 @@ from typing import Dict, List, Tuple
 
 import numpy as np
 
-from ..runs import Run
-from ..sim_runs import yaml_scalar
-from ..tables import build_table, to_markdown
+from ..tools.runs import Run
+from ..tools.sim_runs import yaml_scalar
+from ..tools.tables import build_table, to_markdown
 
 # (column, label, unit) of the estimator runs' metrics that get tables and plots.
 METRICS = [("ate_m", "ATE", "m"), ("force_rmse_world", "Force RMSE (world)", "m/s²"),

@@ -21,7 +21,7 @@ from typing import Any, Dict, List, Optional
 
 import yaml
 
-from ..sim_runs import yaml_scalar
+from ..tools.sim_runs import yaml_scalar
 
 TOP_KEYS = {"name", "scenarios", "sequences", "seeds", "config", "grid", "estimators", "skip_s",
             "features_only", "memory_mb", "massid", "nees"}

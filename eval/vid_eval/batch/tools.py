@@ -16,7 +16,7 @@ import subprocess
 import time
 from typing import Dict, List, Optional
 
-from ..sim_runs import REPO, config_with_overrides, score_run, sequence_exists, simulate_command
+from ..tools.sim_runs import REPO, config_with_overrides, score_run, sequence_exists, simulate_command
 
 
 class TaskError(Exception):

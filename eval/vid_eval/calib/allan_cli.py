@@ -18,7 +18,7 @@ from typing import List, Optional
 import numpy as np
 
 from ..errors import VidEvalError
-from ..loaders import load_imu
+from ..tools.loaders import load_imu
 from ..usage import OneLineParser
 from .cli_errors import run_reporting_errors
 from .allan import analyse

@@ -12,7 +12,7 @@ from typing import Dict, List, Optional
 import numpy as np
 
 from ..errors import VidEvalError
-from ..loaders import load_yaml_mapping
+from ..tools.loaders import load_yaml_mapping
 from . import dataset as ds
 from .flight_fit import FitOptions, fit_flight
 from .flight_noise import FlightNoise, flight_noise

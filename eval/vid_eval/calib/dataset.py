@@ -1,5 +1,5 @@
 """The streams of one dataset folder (docs/formats.md §1) that the calibration tools read,
-through the package's one set of loaders (:mod:`vid_eval.loaders`)."""
+through the package's one set of loaders (:mod:`vid_eval.tools.loaders`)."""
 from __future__ import annotations
 
 import os
@@ -9,11 +9,11 @@ from typing import Optional
 
 import numpy as np
 
-from .. import formats
+from ..core import formats
 from ..errors import ConfigurationError, InputFormatError
-from ..geometry import matrices_from_wxyz
-from ..loaders import ImuSeries, Vehicle, load_force_gt, load_imu, load_rotor_speeds, load_vehicle, load_yaml_mapping
-from ..table_reader import Table, read_table
+from ..core.geometry import matrices_from_wxyz
+from ..tools.loaders import ImuSeries, Vehicle, load_force_gt, load_imu, load_rotor_speeds, load_vehicle, load_yaml_mapping
+from ..tools.table_reader import Table, read_table
 
 
 def find_mav0(dataset: os.PathLike) -> Path:

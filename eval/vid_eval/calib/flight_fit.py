@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import VidEvalError
 from ..importer.errors import DataError
 from ..importer.sync import ThrustOffset, thrust_offset
-from ..loaders import ImuSeries, Vehicle
+from ..tools.loaders import ImuSeries, Vehicle
 from . import dataset as ds
 from .axis_fit import AXIS_SIGMA_MAX_DEG, DRAG_SIGMA_MAX, FORCE_BAND_HZ, LateralFit, ThrustAxis, drag_share, fit_lateral, low_pass, thrust_axis
 from .thrust_fit import FitInput, ThrustFit, fit_thrust, regressors

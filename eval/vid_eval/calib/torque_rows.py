@@ -29,7 +29,7 @@ from typing import Optional
 import numpy as np
 
 from ..errors import InputFormatError
-from ..loaders import load_yaml_mapping
+from ..tools.loaders import load_yaml_mapping
 
 #: Window length of the integrated Euler equation [s]. Long enough that the gyro difference at
 #: its ends is small next to the torque integral, short enough that hundreds fit in a log.

@@ -8,9 +8,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from ..geometry import lerp, rot_from_wxyz, slerp_wxyz
+from ..core.geometry import lerp, rot_from_wxyz, slerp_wxyz
 from ..importer.sync import mocap_body_rate
-from ..table_reader import Table
+from ..tools.table_reader import Table
 
 
 @dataclass

@@ -1,6 +1,6 @@
 """``vid-eval force-bound DATASET``: idealized force-estimation bound of a sequence.
 
-Runs :mod:`vid_eval.force_bound` on the sequence's force0 (divided by the mass) with the
+Runs :mod:`vid_eval.core.force_bound` on the sequence's force0 (divided by the mass) with the
 accelerometer noise and rates of its imu0 / cam0 sensor.yaml, for several camera position
 noises, and prints the best causal-filter RMSE (and the smoother's) per sigma_p.
 """
@@ -14,11 +14,11 @@ import numpy as np
 import yaml
 
 from ..errors import ConfigurationError, InputFormatError
-from ..force_bound import BoundSetup, force_bound, split_by_time_scale
-from ..force_frames import mass_at
-from ..gauge import find_estimate_trajectory, find_gt_trajectory, rotate_world, world_gauge_from_files
-from ..geometry import lerp
-from ..loaders import (find_mass_source, load_force_estimate, load_force_gt, load_mass,
+from ..core.force_bound import BoundSetup, force_bound, split_by_time_scale
+from ..core.force_frames import mass_at
+from ..tools.gauge import find_estimate_trajectory, find_gt_trajectory, rotate_world, world_gauge_from_files
+from ..core.geometry import lerp
+from ..tools.loaders import (find_mass_source, load_force_estimate, load_force_gt, load_mass,
                        load_vehicle_mass)
 from .common import abspath, finish
 

@@ -8,9 +8,9 @@ import re
 from pathlib import Path
 from typing import Any, Dict, Optional, Sequence
 
-from ..loaders import find_phases, load_phases
-from ..pairing import PairingOptions
-from ..phases import DEFAULT_WINDOW_S, PhaseSegmentation, segment_phases
+from ..tools.loaders import find_phases, load_phases
+from ..core.pairing import PairingOptions
+from ..core.phases import DEFAULT_WINDOW_S, PhaseSegmentation, segment_phases
 from ..usage import positive_float
 
 

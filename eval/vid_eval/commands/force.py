@@ -1,7 +1,7 @@
 """``vid-eval force EST GT``: external-force RMSE per axis and of the norm, JSON and plot.
 
 A world-frame comparison first rotates the estimate into the ground truth's world with the
-trajectory alignment (:mod:`vid_eval.gauge`): the estimator's world frame has its own heading.
+trajectory alignment (:mod:`vid_eval.tools.gauge`): the estimator's world frame has its own heading.
 """
 from __future__ import annotations
 
@@ -12,18 +12,18 @@ from typing import Optional, Tuple
 import numpy as np
 
 from ..errors import AssociationError, ConfigurationError, InputFormatError
-from ..alignment import ALIGN_MODES
-from ..force_frames import Mass, mass_at, newton_to_accel, rotate_series
-from ..force_metrics import force_errors
-from ..force_response import force_response
-from ..gauge import (WorldGauge, find_estimate_trajectory, find_gt_trajectory, rotate_orientations,
+from ..core.alignment import ALIGN_MODES
+from ..core.force_frames import Mass, mass_at, newton_to_accel, rotate_series
+from ..core.force_metrics import force_errors
+from ..core.force_response import force_response
+from ..tools.gauge import (WorldGauge, find_estimate_trajectory, find_gt_trajectory, rotate_orientations,
                      rotate_world, world_gauge_from_files)
-from ..loaders import (find_mass_source, load_force_estimate, load_force_gt, load_mass,
+from ..tools.loaders import (find_mass_source, load_force_estimate, load_force_gt, load_mass,
                        load_state, load_trajectory, load_vehicle_mass)
-from ..pairing import pair_vectors
-from ..phase_metrics import force_phase_lines, force_phase_report
-from ..phases import PhaseSegmentation
-from ..series import Trajectory, VectorSeries
+from ..core.pairing import pair_vectors
+from ..core.phase_metrics import force_phase_lines, force_phase_report
+from ..core.phases import PhaseSegmentation
+from ..core.series import Trajectory, VectorSeries
 from .common import (abspath, add_output_args, add_pairing_args, add_phase_args, finish,
                      pairing_from_args, phases_from_args, plot_names)
 

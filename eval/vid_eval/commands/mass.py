@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import argparse
 
-from ..loaders import load_mass
-from ..mass_metrics import MassResult
-from ..pairing import pair_scalars
+from ..tools.loaders import load_mass
+from ..core.mass_metrics import MassResult
+from ..core.pairing import pair_scalars
 from .common import (abspath, add_output_args, add_pairing_args, finish, pairing_from_args,
                      plot_names)
 

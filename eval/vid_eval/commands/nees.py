@@ -2,7 +2,7 @@
 time inside the 95 % band, and a plot per file.
 
 The CSVs are what ``vio_core_nees_sim_test`` / ``vio_core_nees_test`` write into
-``<build>/vio_core_nees/`` (format: :data:`vid_eval.formats.NEES_COLUMNS`).
+``<build>/vio_core_nees/`` (format: :data:`vid_eval.core.formats.NEES_COLUMNS`).
 """
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import argparse
 import json
 from pathlib import Path
 
-from ..loaders import load_nees
+from ..tools.loaders import load_nees
 from .common import abspath
 
 

@@ -5,8 +5,8 @@ import argparse
 from pathlib import Path
 
 from ..errors import ConfigurationError
-from ..runs import METRICS, load_run
-from ..tables import build_table, to_latex, to_markdown
+from ..tools.runs import METRICS, load_run
+from ..tools.tables import build_table, to_latex, to_markdown
 
 
 def add_parser(sub) -> None:

@@ -3,11 +3,11 @@ from __future__ import annotations
 
 import argparse
 
-from ..alignment import ALIGN_MODES
-from ..ate import compute_ate, compute_ate_pieces
-from ..loaders import TRAJ_FORMATS, load_trajectory, reinit_marks
-from ..phase_metrics import pose_phase_lines, pose_phase_report
-from ..rpe import DEFAULT_PERCENTAGES, compute_rpe, default_distances, rpe_as_dict
+from ..core.alignment import ALIGN_MODES
+from ..core.ate import compute_ate, compute_ate_pieces
+from ..tools.loaders import TRAJ_FORMATS, load_trajectory, reinit_marks
+from ..core.phase_metrics import pose_phase_lines, pose_phase_report
+from ..core.rpe import DEFAULT_PERCENTAGES, compute_rpe, default_distances, rpe_as_dict
 from .common import (abspath, add_output_args, add_pairing_args, add_phase_args, finish,
                      pairing_from_args, phases_from_args, plot_names)
 

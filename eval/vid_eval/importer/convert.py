@@ -8,7 +8,7 @@ from typing import Dict, List, Tuple
 
 import numpy as np
 
-from ..geometry import wxyz_from_rot
+from ..core.geometry import wxyz_from_rot
 from .errors import DataError
 from .frames import check_up, check_world, imu_vectors, mocap_orientation, quat_to_xyzw, world_vectors
 from .pieces import Stream, find_pieces, gaps, read_joined

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import rot_from_wxyz
+from ..core.geometry import rot_from_wxyz
 from .errors import DataError
 from .smoothing import derivatives, smooth
 

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional, Tuple, Union
 
-from ..loaders import load_yaml_mapping
+from ..tools.loaders import load_yaml_mapping
 from .errors import MapError
 
 ColumnRef = Union[str, int]

@@ -18,8 +18,8 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from ..loaders import load_imu, load_rotor_speeds, load_vehicle
-from ..table_reader import read_table
+from ..tools.loaders import load_imu, load_rotor_speeds, load_vehicle
+from ..tools.table_reader import read_table
 
 FRD = np.diag([1.0, -1.0, -1.0])
 NED_FROM_ENU = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])

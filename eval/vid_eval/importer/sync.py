@@ -26,7 +26,7 @@ from scipy.interpolate import CubicSpline
 from scipy.optimize import minimize_scalar
 from scipy.spatial.transform import Rotation
 
-from ..geometry import rot_from_wxyz
+from ..core.geometry import rot_from_wxyz
 from .errors import DataError
 
 DEFAULT_MAX_LAG_S = 0.5

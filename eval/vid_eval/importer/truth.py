@@ -14,9 +14,9 @@ from scipy.spatial.transform import Rotation
 
 from ..bag2asl.extract import FORCE_HEADER, THRUST_HEADER
 from ..errors import InputFormatError
-from ..geometry import rot_from_wxyz, wxyz_from_rot
-from ..loaders import load_imu, load_rotor_speeds, load_vehicle, load_yaml_mapping
-from ..table_reader import read_table
+from ..core.geometry import rot_from_wxyz, wxyz_from_rot
+from ..tools.loaders import load_imu, load_rotor_speeds, load_vehicle, load_yaml_mapping
+from ..tools.table_reader import read_table
 from .force_truth import FORCE_CUTOFF_HZ, DragFit, ForceTruth, drag_fit, force_truth
 from .sync import DEFAULT_MAX_LAG_S, GyroSync, Lag, gyro_mocap_sync, thrust_offset
 from .writer import write_csv, write_gt

@@ -32,7 +32,7 @@ from typing import List, Optional
 import numpy as np
 
 from ..errors import InputFormatError
-from ..sim_runs import REPO
+from ..tools.sim_runs import REPO
 from ..usage import OneLineParser
 from .fault_counts import fault_mismatches
 
@@ -75,8 +75,8 @@ def _rss_kb(pid: int) -> Optional[int]:
 def _looped_ground_truth(dataset: pathlib.Path, loops: int, span_ns: int):
     """The ground truth of the looped replay: pass k shifted by k * span, [first, first+span)
     for all passes but the last (as vid_replay publishes)."""
-    from ..loaders import load_euroc_pose_csv
-    from ..series import Trajectory
+    from ..tools.loaders import load_euroc_pose_csv
+    from ..core.series import Trajectory
     gt = load_euroc_pose_csv(dataset / "mav0" / "state_groundtruth_estimate0" / "data.csv")
     inner = gt.t_ns < gt.t_ns[0] + span_ns
     t, p, q = [], [], []
@@ -90,8 +90,8 @@ def _looped_ground_truth(dataset: pathlib.Path, loops: int, span_ns: int):
 
 def _ate(out: pathlib.Path, dataset: pathlib.Path, loops: int, span_ns: int) -> dict:
     """posyaw ATE over the whole run and over the last pass [m]."""
-    from ..ate import compute_ate
-    from ..loaders import load_trajectory
+    from ..core.ate import compute_ate
+    from ..tools.loaders import load_trajectory
     est = load_trajectory(out / "trajectory_tum.txt")
     gt = _looped_ground_truth(dataset, loops, span_ns)
     whole = compute_ate(est, gt, "posyaw")

@@ -7,8 +7,8 @@ from typing import Optional
 
 import numpy as np
 
-from ..force_metrics import ForceResult
-from ..phases import PhaseSegmentation
+from ..core.force_metrics import ForceResult
+from ..core.phases import PhaseSegmentation
 from .phases import shade_phases
 from .style import ERR_COLOR, EST_COLOR, GT_COLOR, new_figure, save
 

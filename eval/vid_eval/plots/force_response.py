@@ -8,7 +8,7 @@ from typing import Optional
 
 import numpy as np
 
-from ..force_response import ForceResponse
+from ..core.force_response import ForceResponse
 from .style import AXIS_COLORS, ERR_COLOR, EST_COLOR, GT_COLOR, new_figure, save
 
 _BEFORE_S = 0.3  # shown before each step, to see the level it leaves

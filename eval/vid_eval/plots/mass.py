@@ -5,7 +5,7 @@ import os
 from pathlib import Path
 from typing import Optional
 
-from ..mass_metrics import MassResult
+from ..core.mass_metrics import MassResult
 from .style import ERR_COLOR, EST_COLOR, GT_COLOR, new_figure, save
 
 

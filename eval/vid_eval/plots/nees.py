@@ -6,8 +6,8 @@ import os
 from pathlib import Path
 from typing import Optional
 
-from ..formats import NEES_DOF
-from ..series import NeesCurves
+from ..core.formats import NEES_DOF
+from ..core.series import NeesCurves
 from .style import new_figure, save
 
 BAND_COLOR = "tab:green"

@@ -1,7 +1,7 @@
 """Flight phases on a time axis: landed intervals shaded, lift-off and touchdown marked."""
 from __future__ import annotations
 
-from ..phases import LANDED, LIFT_OFF, PhaseSegmentation
+from ..core.phases import LANDED, LIFT_OFF, PhaseSegmentation
 
 LANDED_COLOR = "tab:brown"
 EVENT_COLORS = {LIFT_OFF: "tab:green", "touchdown": "tab:orange"}

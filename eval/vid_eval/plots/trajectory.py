@@ -7,9 +7,9 @@ from typing import List, Optional, Sequence
 
 import numpy as np
 
-from ..ate import AteResult
-from ..phases import PhaseSegmentation
-from ..rpe import RpeSegment
+from ..core.ate import AteResult
+from ..core.phases import PhaseSegmentation
+from ..core.rpe import RpeSegment
 from .phases import shade_phases
 from .style import ERR_COLOR, EST_COLOR, GT_COLOR, new_figure, save
 

@@ -15,7 +15,7 @@ from typing import Dict, Optional
 import numpy as np
 
 from ..errors import ConfigurationError
-from ..sim_runs import REPO
+from ..tools.sim_runs import REPO
 from .scene import ENTITIES, Scene
 
 DEFAULT_CHANNELS = {"state": "VID_STATE", "force": "VID_FORCE", "status": "VID_STATUS",

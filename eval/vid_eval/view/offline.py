@@ -8,8 +8,8 @@ from typing import Optional
 import numpy as np
 
 from ..errors import ConfigurationError, InputFormatError
-from ..gauge import fit_world_gauge
-from ..loaders import load_force_estimate, load_state, load_trajectory, load_tracks
+from ..tools.gauge import fit_world_gauge
+from ..tools.loaders import load_force_estimate, load_state, load_trajectory, load_tracks
 from .scene import ENTITIES, Scene
 
 

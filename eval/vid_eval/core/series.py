@@ -15,7 +15,7 @@ class Trajectory:
     """Poses ``p_WI`` (N, 3) [m] and ``q_WI`` (N, 4) (w, x, y, z) at times ``t_ns`` (N,).
 
     ``time_unit`` says how the file wrote the stamps (``"s"``: TUM seconds, ``"ns"``: ASL);
-    only the evo-compatible association looks at it (:mod:`vid_eval.association`).
+    only the evo-compatible association looks at it (:mod:`vid_eval.core.association`).
     """
 
     t_ns: np.ndarray
@@ -86,7 +86,7 @@ class ScalarSeries:
 
 @dataclass
 class StateSeries:
-    """Rows of our ``state.csv`` (see :mod:`vid_eval.formats`)."""
+    """Rows of our ``state.csv`` (see :mod:`vid_eval.core.formats`)."""
 
     t_ns: np.ndarray
     p: np.ndarray

@@ -10,7 +10,7 @@ from typing import Optional, Union
 
 import numpy as np
 
-from .errors import AssociationError, ConfigurationError
+from ..errors import AssociationError, ConfigurationError
 from .geometry import lerp, matrices_from_wxyz, slerp_wxyz
 from .series import ScalarSeries, Trajectory, VectorSeries
 

@@ -23,7 +23,7 @@ from typing import Tuple
 
 import numpy as np
 
-from .errors import AssociationError
+from ..errors import AssociationError
 
 
 @dataclass

@@ -1,7 +1,7 @@
 """Dynamic response of a force estimate to abrupt forces: lag, steps (settling), pulses.
 
 All quantities are mass-normalized forces in m/s^2. Both series are first resampled by linear
-interpolation (:func:`vid_eval.geometry.lerp`) onto one uniform grid over their common time
+interpolation (:func:`vid_eval.core.geometry.lerp`) onto one uniform grid over their common time
 span, spacing ``dt`` (default: the median sample spacing of the ground truth). Nothing else is
 smoothed. The rules below are applied to that grid.
 

@@ -21,13 +21,13 @@ from typing import Optional
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from .alignment import Alignment
-from .ate import compute_ate
-from .errors import ConfigurationError, PathLike
-from .geometry import rot_from_wxyz, wxyz_from_rot
+from ..core.alignment import Alignment
+from ..core.ate import compute_ate
+from ..errors import ConfigurationError, PathLike
+from ..core.geometry import rot_from_wxyz, wxyz_from_rot
 from .loaders import load_trajectory
-from .pairing import PairingOptions
-from .series import Trajectory, VectorSeries
+from ..core.pairing import PairingOptions
+from ..core.series import Trajectory, VectorSeries
 
 #: Files next to an estimate (force.csv) that carry its trajectory, in order of preference.
 ESTIMATE_TRAJECTORY_NAMES = ("state.csv", "trajectory_tum.txt")

@@ -16,13 +16,13 @@ from typing import Mapping, Optional
 
 import numpy as np
 
-from .ate import compute_ate
-from .force_frames import newton_to_accel
-from .force_response import force_response
+from ..core.ate import compute_ate
+from ..core.force_frames import newton_to_accel
+from ..core.force_response import force_response
 from .gauge import fit_world_gauge, rotate_world
 from .loaders import (find_mass_source, load_force_estimate, load_force_gt, load_mass,
                       load_trajectory, load_vehicle_mass)
-from .pairing import PairingOptions, pair_vectors
+from ..core.pairing import PairingOptions, pair_vectors
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 

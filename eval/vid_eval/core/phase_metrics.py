@@ -1,14 +1,14 @@
 """Force and pose errors per flight phase (issue #29: real flights start and end on the ground).
 
-The phases come from :mod:`vid_eval.phases`. Every number here reuses the whole-run pairing
+The phases come from :mod:`vid_eval.core.phases`. Every number here reuses the whole-run pairing
 and alignment: a phase's errors are the whole run's paired errors whose ground-truth time lies
 in that phase, so no phase is aligned on its own.
 
 * **Per segment** (``landed``, ``airborne``, each transition window): the force RMSE as
-  :func:`vid_eval.force_metrics.force_errors` (per frame given), the position error and the
+  :func:`vid_eval.core.force_metrics.force_errors` (per frame given), the position error and the
   attitude error statistics of the ATE.
 * **Settling after each event** (force). It follows the step response of
-  :mod:`vid_eval.force_response` on the same resampled grid, with the same ``tol``, ``hold_s``,
+  :mod:`vid_eval.core.force_response` on the same resampled grid, with the same ``tol``, ``hold_s``,
   ``window_s`` and noise band. The transition window plays the role of the rise window:
   the *level before* is the per-axis median of the truth over the ``hold_s`` just before the
   window, the *level after* the median over the ``hold_s`` just after it. Neither reaches into

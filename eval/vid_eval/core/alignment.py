@@ -10,7 +10,7 @@ from typing import Optional
 
 import numpy as np
 
-from .errors import VidEvalError
+from ..errors import VidEvalError
 
 ALIGN_MODES = ("posyaw", "se3", "sim3", "none")
 

@@ -13,8 +13,8 @@ from typing import Iterable, List, Optional, Sequence
 
 import numpy as np
 
-from .errors import InputFormatError, PathLike
-from .formats import header_names
+from ..errors import InputFormatError, PathLike
+from ..core.formats import header_names
 
 
 _INT64_MIN, _INT64_MAX = -(2**63), 2**63 - 1

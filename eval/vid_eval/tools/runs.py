@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
-from .errors import InputFormatError
+from ..errors import InputFormatError
 
 
 @dataclass(frozen=True)

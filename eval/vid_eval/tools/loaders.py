@@ -1,6 +1,6 @@
 """Loaders of every file format the evaluation reads (docs/formats.md §1 and §5, TUM, EuRoC).
 
-Each loader returns a typed series from :mod:`vid_eval.series` or raises
+Each loader returns a typed series from :mod:`vid_eval.core.series` or raises
 :class:`~vid_eval.errors.InputFormatError` naming file and line.
 """
 from __future__ import annotations
@@ -13,9 +13,9 @@ from typing import List, Optional
 import numpy as np
 import yaml
 
-from . import formats
-from .errors import InputFormatError, PathLike
-from .series import NeesCurves, ScalarSeries, StateSeries, Trajectory, VectorSeries
+from ..core import formats
+from ..errors import InputFormatError, PathLike
+from ..core.series import NeesCurves, ScalarSeries, StateSeries, Trajectory, VectorSeries
 from .table_reader import Table, not_utf8, parse_time, read_table
 
 TRAJ_FORMATS = ("tum", "euroc", "state")
@@ -67,7 +67,7 @@ def load_euroc_pose_csv(path: PathLike) -> Trajectory:
 
 
 def load_state(path: PathLike) -> StateSeries:
-    """Our ``state.csv`` (docs/formats.md §2, columns in :data:`vid_eval.formats.STATE_COLUMNS`)."""
+    """Our ``state.csv`` (docs/formats.md §2, columns in :data:`vid_eval.core.formats.STATE_COLUMNS`)."""
     names = [n for n, _ in formats.STATE_COLUMNS]
     tab = read_table(path, {len(names)}, expected_names=names, what="state.csv")
     v = tab.values
@@ -275,7 +275,7 @@ class ImuSeries:
 
 
 def load_imu(path: PathLike) -> ImuSeries:
-    """EuRoC ``imu0/data.csv`` (7 columns, :data:`vid_eval.formats.IMU0_COLUMNS`)."""
+    """EuRoC ``imu0/data.csv`` (7 columns, :data:`vid_eval.core.formats.IMU0_COLUMNS`)."""
     names = [n for n, _ in formats.IMU0_COLUMNS]
     tab = read_table(path, {len(names)}, expected_names=names, what="imu0 CSV")
     return ImuSeries(tab.t_ns, tab.values[:, 0:3].copy(), tab.values[:, 3:6].copy(), tab.path)

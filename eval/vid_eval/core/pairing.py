@@ -1,6 +1,6 @@
 """Pair an estimate with ground truth sample by sample: nearest association or interpolation.
 
-``mode="nearest"`` uses :func:`vid_eval.association.associate` (evo's rule);
+``mode="nearest"`` uses :func:`vid_eval.core.association.associate` (evo's rule);
 ``mode="interpolate"`` evaluates the ground truth at every estimate time inside its span —
 SLERP for rotations, linear for positions, forces and masses.
 """

@@ -96,7 +96,7 @@ def compute_ate_pieces(est: Trajectory, gt: Trajectory, starts_ns, mode: str = "
                        n_align: Optional[int] = None,
                        pairing: Optional[PairingOptions] = None) -> PiecewiseAte:
     """:func:`compute_ate` per piece between re-initializations (``starts_ns``: the new world
-    frames' first times, :func:`vid_eval.loaders.reinit_marks`); anything before the first start
+    frames' first times, :func:`vid_eval.tools.loaders.reinit_marks`); anything before the first start
     belongs to the first piece."""
     pe, pg = pair_trajectories(est, gt, pairing or PairingOptions())
     cuts = np.searchsorted(pe.t_ns, np.sort(np.asarray(starts_ns, dtype=np.int64)))
