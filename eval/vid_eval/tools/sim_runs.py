@@ -24,7 +24,7 @@ from .loaders import (find_mass_source, load_force_estimate, load_force_gt, load
                       load_trajectory, load_vehicle_mass)
 from ..core.pairing import PairingOptions, pair_vectors
 
-REPO = pathlib.Path(__file__).resolve().parents[2]
+REPO = pathlib.Path(__file__).resolve().parents[3]  # eval/vid_eval/tools/sim_runs.py
 
 
 def sequence_exists(seq: pathlib.Path) -> bool:
