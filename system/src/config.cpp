@@ -29,6 +29,7 @@ SystemConfig resolve_config(const std::optional<fs::path>& config, const io::Dat
   if (dataset.rotor) cfg.sources["rotor"] = "dataset rotor0/sensor.yaml";
   if (dataset.vehicle) cfg.sources["vehicle"] = "dataset vehicle.yaml";
 
+  std::optional<io::YamlMap> estimator_yaml;  // the keys the preset's estimator.yaml sets
   if (config) {
     fs::path dir = *config;
     fs::path estimator_file;
@@ -43,8 +44,9 @@ SystemConfig resolve_config(const std::optional<fs::path>& config, const io::Dat
     if (fs::exists(estimator_file)) {
       cfg.estimator = io::load_estimator_params(estimator_file);
       cfg.sources["estimator"] = estimator_file.string();
+      estimator_yaml = io::YamlMap::load_file(estimator_file);
       // Only an explicit `mode:` pins the mode; the struct default must not override auto-detection.
-      if (io::YamlMap::load_file(estimator_file).has("mode")) cfg.preset_mode = cfg.estimator.mode;
+      if (estimator_yaml->has("mode")) cfg.preset_mode = cfg.estimator.mode;
     }
     if (const fs::path f = dir / "frontend.yaml"; fs::exists(f)) {
       cfg.frontend = load_frontend_params(f);
@@ -80,15 +82,25 @@ SystemConfig resolve_config(const std::optional<fs::path>& config, const io::Dat
                             "rotor_sensor.yaml or vehicle.yaml)");
   }
 
-  // The IMU calibration is the source of truth for IMU noise; the vehicle for gravity.
+  // The IMU calibration is the source of truth for IMU noise; the vehicle for gravity. A value
+  // the preset's estimator.yaml gives them too is replaced, and said so when it differs.
+  const auto take = [&](const char* key, double& estimator_value, double value, const std::string& part) {
+    if (estimator_yaml && estimator_yaml->has(key) && estimator_value != value) {
+      std::ostringstream line;
+      line << cfg.sources.at("estimator") << ": " << key << " " << estimator_value << " is replaced by "
+           << cfg.sources.at(part) << "'s " << value << " (the " << part << " file owns it: remove the key)";
+      cfg.overrides.push_back(line.str());
+    }
+    estimator_value = value;
+  };
   if (cfg.imu) {
-    cfg.estimator.gyro_noise_density = cfg.imu->gyro_noise_density;
-    cfg.estimator.gyro_random_walk = cfg.imu->gyro_random_walk;
-    cfg.estimator.accel_noise_density = cfg.imu->accel_noise_density;
-    cfg.estimator.accel_random_walk = cfg.imu->accel_random_walk;
-    if (cfg.imu->rate_hz > 0.0) cfg.estimator.imu_rate_hz = cfg.imu->rate_hz;
+    take("gyro_noise_density", cfg.estimator.gyro_noise_density, cfg.imu->gyro_noise_density, "imu");
+    take("gyro_random_walk", cfg.estimator.gyro_random_walk, cfg.imu->gyro_random_walk, "imu");
+    take("accel_noise_density", cfg.estimator.accel_noise_density, cfg.imu->accel_noise_density, "imu");
+    take("accel_random_walk", cfg.estimator.accel_random_walk, cfg.imu->accel_random_walk, "imu");
+    if (cfg.imu->rate_hz > 0.0) take("imu_rate_hz", cfg.estimator.imu_rate_hz, cfg.imu->rate_hz, "imu");
   }
-  if (cfg.vehicle) cfg.estimator.gravity = cfg.vehicle->gravity;
+  if (cfg.vehicle) take("gravity", cfg.estimator.gravity, cfg.vehicle->gravity, "vehicle");
   return cfg;
 }
 

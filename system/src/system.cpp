@@ -64,11 +64,12 @@ System::System(SystemParams params) : p_(std::move(params)), cpu_start_s_(proces
   if (p_.features == FeatureSource::kFeat0)
     for (const auto& cam : p_.config.cameras) models_.push_back(CameraModel::create(cam));
   build_estimator();
+  for (const std::string& line : p_.config.overrides) spdlog::warn("{}", line);
   const EstimatorParams& ep = p_.config.estimator;
   if (dynamics() && ep.thrust_scale_random_walk > 0.0 && ep.force_rate_random_walk > 0.0) {
     spdlog::warn("thrust_scale_random_walk {} with the force-rate state on (force_rate_random_walk {}): a mass "
                  "change and a force along the thrust are not separable, the mass estimate will be arbitrary; "
-                 "set force_rate_random_walk: 0 for a vehicle without fast external forces (README \"Mass state\")",
+                 "set force_rate_random_walk: 0 for a vehicle without fast external forces (docs/notes/mass-state.md)",
                  ep.thrust_scale_random_walk, ep.force_rate_random_walk);
   }
   if (p_.out_dir) {

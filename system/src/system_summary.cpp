@@ -232,6 +232,7 @@ nlohmann::json System::summary() const {
   s["config"] = describe_json(cfg);
   s["config_yaml"] = describe(cfg);  // the same, as the YAML files read
   s["config_sources"] = cfg.sources;
+  s["config_overrides"] = cfg.overrides;
 
   // Metrics against ground truth, with the association and alignment of vid_eval; with
   // fixed-lag smoothing the same figures of the smoothed outputs, keys suffixed "_smoothed".

@@ -41,10 +41,15 @@ struct SystemConfig {
   /// such key, so the program picks the mode from the input's streams
   std::optional<PropagationMode> preset_mode;
   std::map<std::string, std::string> sources;  ///< part -> file (or "defaults")
+  /// One fact, one file: a value estimator.yaml sets that the IMU calibration (noise, rate) or
+  /// vehicle.yaml (gravity) replaces with a different one, one line each (warned by System,
+  /// summary.json config_overrides).
+  std::vector<std::string> overrides;
 };
 
 /// @brief Resolve the configuration. IMU noise comes from the IMU calibration (preset
-/// imu.yaml, else the dataset's imu0/sensor.yaml) when one exists; gravity from vehicle.yaml.
+/// imu.yaml, else the dataset's imu0/sensor.yaml) when one exists; gravity from vehicle.yaml;
+/// an estimator.yaml value they replace with another is listed in SystemConfig::overrides.
 /// @param config  preset folder, or its estimator.yaml; std::nullopt for dataset-only
 /// @throws io::ConfigError naming the file and key at fault
 SystemConfig resolve_config(const std::optional<std::filesystem::path>& config, const io::DatasetCalibration& dataset);
