@@ -122,7 +122,7 @@ def test_mass_nees_in_band_ratchet(mass_nees):
 
 
 @target_not_met("issue #21: in band 82 % (target 90 %): the sigma stays wider than the "
-                "error after each step while s and F share it (README 'Mass state')")
+                "error after each step while s and F share it (docs/notes/mass-state.md)")
 def test_mass_nees_in_band(mass_nees):
     """The issue's criterion: inside the 95 % band of chi2(3)/3 >= 90 % of the time."""
     target("mass NEES in band (seeds 1-3)", _in_band(mass_nees), 0.9, higher_is_better=True)

@@ -90,7 +90,7 @@ def test_abrupt_force_rmse_ratchet(abrupt_gap):
 
 @target_not_met("open (issue 17): force RMSE 0.47 (rope_snap_short) / 0.95 (impacts_short) "
                 "m/s^2 > 0.25; a causal filter told the exact jump times does 0.42 / 0.38 on the full "
-                "presets (vid-eval force-bound --jump-oracle 0.2): README 'Abrupt external forces'")
+                "presets (vid-eval force-bound --jump-oracle 0.2): docs/notes/abrupt-forces.md")
 def test_abrupt_force_rmse_target(abrupt_gap):
     preset, s = abrupt_gap
     target(f"{preset} force RMSE [m/s^2]", s["force_rmse_world_mps2"], 0.25)

@@ -29,7 +29,7 @@ def add_parser(sub) -> None:
         "force-bound", help="idealized bound of the external-force RMSE of a sequence",
         description="Best RMSE any linear filter could reach on the sequence's force0 if "
                     "attitude, thrust and accelerometer bias were known and the camera gave "
-                    "absolute position with noise sigma_p (README 'External-force accuracy').")
+                    "absolute position with noise sigma_p (docs/notes/force-accuracy.md).")
     p.add_argument("dataset", help="dataset folder (with mav0/force0/data.csv)")
     p.add_argument("--sigma-p-mm", type=float, nargs="+", default=[0.25, 0.5, 1.0, 2.0],
                    metavar="MM", help="camera position noise per frame [mm] (default 0.25 0.5 1 2)")

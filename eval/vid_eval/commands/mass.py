@@ -13,7 +13,7 @@ from .common import (abspath, add_output_args, add_pairing_args, finish, pairing
 def add_parser(sub) -> None:
     """Register the ``mass`` sub-command."""
     p = sub.add_parser("mass", help="mass-identification errors (RMSPE, RMSE)",
-                       description="RMSPE = sqrt(mean(((m_hat - m)/m)^2)) * 100 % (seed eq. 48) "
+                       description="RMSPE = sqrt(mean(((m_hat - m)/m)^2)) * 100 % (docs/model.md eq. (56)) "
                                    "and RMSE [kg] of a mass estimate against ground truth; after every change of "
                                    "the true mass, the time until the estimate stays within 5 %; "
                                    "with a sigma column, the NEES.")

@@ -65,7 +65,7 @@ void write_study_table(const std::filesystem::path& dir, const std::string& stem
   const auto file = dir / (stem + ".md");
   auto out = open_out(file);
   out << "# " << title << "\n\n"
-      << "RMSE = RMSPE (seed eq. 48) [%] on held-out runs after the 1 s feature warm-up "
+      << "RMSE = RMSPE (docs/model.md eq. (56)) [%] on held-out runs after the 1 s feature warm-up "
          "(in brackets: over every sample, warm-up at the initial guess); time = training wall "
          "clock [s] (features + hidden layer + output weights); |beta| = Frobenius norm of the "
          "output weights.\n";

@@ -139,7 +139,7 @@ std::string write_tables(const std::vector<RunRow>& rows, const std::filesystem:
   std::ostringstream summary;
   summary << "# Mass identification: mean update time [ms] and RMSPE [%] per trajectory\n\n"
           << "Cells: mean over the evaluated runs of each run's mean update time (thread CPU "
-             "time per update() call; runs.csv also has wall time) and RMSPE (seed eq. 48). Seed (loop, docs/design.md §5): update time EKF 0.005, UKF 0.0075, "
+             "time per update() call; runs.csv also has wall time) and RMSPE (docs/model.md eq. (56)). Seed (loop, docs/design.md §5): update time EKF 0.005, UKF 0.0075, "
              "MSCKF 0.156, SWLS 0.60 ms; RMSPE 0.5-2.4 %.\n\n";
   for (const std::string& traj : trajs) {
     std::set<std::string> profs;
