@@ -126,7 +126,9 @@ def render() -> str:
            "estimator's IMU noise keys below), `camchain-imucam.yaml` (Kalibr imucam chain), `vehicle.yaml`",
            "(`mass_kg`, `gravity`, `rotor_thrust_coefficients`; `gravity` sets the estimator's) and",
            "`rotor_sensor.yaml` ([formats.md §1](formats.md)). Where each comes from:",
-           "[own-vehicle.md](own-vehicle.md).", ""]
+           "[own-vehicle.md](own-vehicle.md). Each fact has one owner: an `estimator.yaml` value for a key",
+           "a calibration file sets (IMU noise and rate, gravity) is replaced by the calibration's, with one",
+           "warning line per differing key and the list in `summary.json` (`config_overrides`).", ""]
     for src in SOURCES:
         members = parse_struct(ROOT / src.header, src.struct)
         keys, spell = loader_keys([ROOT / p for p in src.loaders])
