@@ -9,10 +9,10 @@
 #include <string>
 
 #include "fuzz_util.h"
-#include "io/estimator_params_yaml.h"
 #include "io/kalibr.h"
 #include "io/reader_options_yaml.h"
 #include "io/sensor_yaml.h"
+#include "vio_core/estimator_params_yaml.h"
 
 namespace io = vid::io;
 
@@ -26,7 +26,7 @@ void load(int kind, const std::filesystem::path& path, const std::string& text) 
     case 3: (void)io::load_vehicle_yaml(path); break;
     case 4: (void)io::load_kalibr_imu(path); break;
     case 5: (void)io::load_kalibr_imucam(path); break;
-    case 6: (void)io::load_estimator_params_string(text, "estimator.yaml"); break;
+    case 6: (void)vid::load_estimator_params_string(text, "estimator.yaml"); break;
     default: {  // reader options, plus the generic getters on whatever keys the map has
       const io::YamlMap map = io::YamlMap::load_string(text, "options.yaml");
       for (const std::string& key : map.keys()) {

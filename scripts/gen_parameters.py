@@ -33,7 +33,7 @@ class Source:
 
 SOURCES = [
     Source("estimator.yaml", "EstimatorParams", "vio_core/include/vio_core/estimator_params.h",
-           ["io/src/estimator_params_yaml.cpp", "vio_core/src/estimator_params.cpp"]),
+           ["vio_core/src/estimator_params_yaml.cpp", "vio_core/src/estimator_params.cpp"]),
     Source("frontend.yaml", "FrontendParams", "frontend/include/frontend/frontend_params.h",
            ["frontend/src/frontend_params_yaml.cpp"]),
 ]

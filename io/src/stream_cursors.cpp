@@ -6,7 +6,7 @@
 #include <map>
 #include <utility>
 
-#include "vio_core/median.h"
+#include "types/median.h"
 
 namespace vid::io::detail {
 

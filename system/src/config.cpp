@@ -7,10 +7,10 @@
 
 #include "frontend/frontend_params_yaml.h"
 #include "io/errors.h"
-#include "io/estimator_params_yaml.h"
 #include "io/kalibr.h"
 #include "io/sensor_yaml.h"
 #include "io/strict_yaml.h"
+#include "vio_core/estimator_params_yaml.h"
 
 namespace vid::system {
 
@@ -42,7 +42,7 @@ SystemConfig resolve_config(const std::optional<fs::path>& config, const io::Dat
       throw io::ConfigError(config->string() + ": no such config file or folder");
     }
     if (fs::exists(estimator_file)) {
-      cfg.estimator = io::load_estimator_params(estimator_file);
+      cfg.estimator = load_estimator_params(estimator_file);
       cfg.sources["estimator"] = estimator_file.string();
       estimator_yaml = io::YamlMap::load_file(estimator_file);
       // Only an explicit `mode:` pins the mode; the struct default must not override auto-detection.
@@ -109,7 +109,7 @@ std::string describe(const SystemConfig& cfg) {
   // Parameters built in code (tests) name no file.
   const auto source = cfg.sources.find("estimator");
   os << "# estimator (" << (source != cfg.sources.end() ? source->second : "parameters") << ")\n"
-     << io::to_yaml(cfg.estimator) << "\n";
+     << to_yaml(cfg.estimator) << "\n";
   for (const auto& cam : cfg.cameras) os << "# cam" << cam.cam_id << "\n" << cam << "\n";
   if (cfg.imu) os << "# imu\n" << *cfg.imu << "\n";
   if (cfg.rotor) os << "# rotor\n" << *cfg.rotor << "\n";
@@ -152,7 +152,7 @@ nlohmann::json part(const T& value, const std::string& name) {
 
 nlohmann::json describe_json(const SystemConfig& cfg) {
   nlohmann::json j;
-  j["estimator"] = to_json(io::YamlMap::parse_string(io::to_yaml(cfg.estimator), "estimator"));
+  j["estimator"] = to_json(io::YamlMap::parse_string(to_yaml(cfg.estimator), "estimator"));
   j["cameras"] = nlohmann::json::array();
   for (const auto& cam : cfg.cameras) j["cameras"].push_back(part(cam, "cam" + std::to_string(cam.cam_id)));
   if (cfg.imu) j["imu"] = part(*cfg.imu, "imu");

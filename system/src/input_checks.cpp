@@ -8,7 +8,7 @@
 
 #include "io/csv_reader.h"
 #include "io/errors.h"
-#include "vio_core/median.h"
+#include "types/median.h"
 
 namespace vid::system {
 

@@ -3,7 +3,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "vio_core/calibration.h"
+#include "types/calibration.h"
 
 namespace vid::test {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "io/dataset_writer.h"
-#include "vio_core/calibration.h"
-#include "vio_core/measurements.h"
+#include "types/calibration.h"
+#include "types/measurements.h"
 
 namespace vid::io::test {
 

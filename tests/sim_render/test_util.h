@@ -3,7 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "vio_core/calibration.h"
+#include "types/calibration.h"
 
 namespace vid::sim::test {
 

@@ -13,7 +13,7 @@
 #include <string>
 
 #include "frontend/frontend_params_yaml.h"
-#include "io/estimator_params_yaml.h"
+#include "vio_core/estimator_params_yaml.h"
 
 namespace vid {
 namespace {
@@ -54,7 +54,7 @@ void expect_documented(const std::string& yaml, const std::map<std::string, std:
 
 TEST(ParametersDoc, DefaultsAreWhatTheLoadersPrint) {
   const auto doc = documented_defaults();
-  expect_documented(io::to_yaml(EstimatorParams{}), doc);
+  expect_documented(to_yaml(EstimatorParams{}), doc);
   expect_documented(to_yaml(FrontendParams{}), doc);
 }
 

@@ -6,9 +6,9 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-#include "vio_core/calibration.h"
+#include "types/calibration.h"
+#include "types/measurements.h"
 #include "vio_core/estimator_params.h"
-#include "vio_core/measurements.h"
 #include "vio_core/pipeline.h"
 
 namespace vid::test {

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "vio_core/median.h"
+#include "types/median.h"
 #include "vio_core/rate_fit.h"
 
 namespace {

@@ -4,7 +4,7 @@
 /// wall clock of the per-frame timings and the scheduling constants.
 #include <chrono>
 
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid::pipeline_detail {
 

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cstdlib>
 
-#include "vio_core/median.h"
+#include "types/median.h"
 
 namespace vid {
 

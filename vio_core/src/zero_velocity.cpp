@@ -4,8 +4,8 @@
 
 #include <algorithm>
 
+#include "types/median.h"
 #include "vio_core/ekf_update.h"
-#include "vio_core/median.h"
 
 namespace vid {
 

@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <memory>
 
-#include "vio_core/calibration.h"
+#include "types/calibration.h"
 
 namespace vid {
 

@@ -6,7 +6,7 @@
 #include <deque>
 #include <optional>
 
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid {
 

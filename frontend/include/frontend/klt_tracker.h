@@ -22,8 +22,8 @@
 #include "frontend/gyro_integrator.h"
 #include "frontend/patch_refiner.h"
 #include "frontend/stereo_matcher.h"
-#include "vio_core/calibration.h"
-#include "vio_core/measurements.h"
+#include "types/calibration.h"
+#include "types/measurements.h"
 
 namespace vid {
 

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "io/errors.h"
-#include "vio_core/calibration.h"
-#include "vio_core/measurements.h"
+#include "types/calibration.h"
+#include "types/measurements.h"
 
 namespace cv {
 class Mat;

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "io/errors.h"
-#include "vio_core/calibration.h"
+#include "types/calibration.h"
 
 namespace vid::io {
 

@@ -10,7 +10,7 @@
 
 #include "io/errors.h"
 #include "io/strict_yaml.h"
-#include "vio_core/calibration.h"
+#include "types/calibration.h"
 
 namespace vid::io {
 

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "sim/simulator.h"
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid::sim {
 

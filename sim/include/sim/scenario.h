@@ -19,8 +19,8 @@
 #include "sim/sensor_faults.h"
 #include "sim/takeoff_landing.h"
 #include "sim/trajectory.h"
-#include "vio_core/calibration.h"
-#include "vio_core/measurements.h"
+#include "types/calibration.h"
+#include "types/measurements.h"
 
 namespace vid::sim {
 

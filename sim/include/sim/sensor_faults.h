@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "sim/render/random.h"
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid::sim {
 

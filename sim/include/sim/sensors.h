@@ -8,7 +8,7 @@
 
 #include "sim/render/random.h"
 #include "sim/scenario.h"
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid::sim {
 

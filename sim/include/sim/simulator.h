@@ -16,7 +16,7 @@
 #include "sim/scenario.h"
 #include "sim/takeoff_landing.h"
 #include "sim/trajectory.h"
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid::sim {
 

@@ -19,7 +19,7 @@
 
 #include "frontend/frontend_params.h"
 #include "io/dataset_reader.h"
-#include "vio_core/calibration.h"
+#include "types/calibration.h"
 #include "vio_core/estimator_params.h"
 
 namespace vid::system {

@@ -10,8 +10,8 @@
 #include <opencv2/core.hpp>
 
 #include "frontend/frontend_params.h"
-#include "vio_core/calibration.h"
-#include "vio_core/measurements.h"
+#include "types/calibration.h"
+#include "types/measurements.h"
 
 namespace vid {
 class KltTracker;

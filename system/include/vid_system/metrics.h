@@ -8,7 +8,7 @@
 #include <optional>
 #include <vector>
 
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid::system {
 

@@ -10,7 +10,7 @@
 #include <optional>
 #include <string>
 
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid::system {
 

@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid {
 

@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "vio_core/calibration.h"
+#include "types/calibration.h"
+#include "types/measurements.h"
 #include "vio_core/estimator_params.h"
 #include "vio_core/inertial_alignment.h"
 #include "vio_core/initializer.h"
-#include "vio_core/measurements.h"
 
 namespace vid {
 

@@ -15,8 +15,8 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "types/measurements.h"
 #include "vio_core/estimator_params.h"
-#include "vio_core/measurements.h"
 
 namespace vid {
 

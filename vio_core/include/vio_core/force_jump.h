@@ -30,9 +30,9 @@
 #include <optional>
 #include <vector>
 
+#include "types/measurements.h"
 #include "vio_core/accel_innovation.h"
 #include "vio_core/estimator_params.h"
-#include "vio_core/measurements.h"
 #include "vio_core/state.h"
 
 namespace vid {

@@ -21,8 +21,8 @@
 #include <deque>
 #include <string>
 
+#include "types/measurements.h"
 #include "vio_core/estimator_params.h"
-#include "vio_core/measurements.h"
 
 namespace vid {
 

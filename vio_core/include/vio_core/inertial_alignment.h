@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "vio_core/calibration.h"
-#include "vio_core/measurements.h"
+#include "types/calibration.h"
+#include "types/measurements.h"
 
 namespace vid::align {
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "types/measurements.h"
 #include "vio_core/estimator_params.h"
-#include "vio_core/measurements.h"
 #include "vio_core/state.h"
 
 namespace vid {

@@ -25,7 +25,8 @@
 #include <string>
 #include <vector>
 
-#include "vio_core/calibration.h"
+#include "types/calibration.h"
+#include "types/measurements.h"
 #include "vio_core/dynamic_initializer.h"
 #include "vio_core/estimator_params.h"
 #include "vio_core/flight_phase.h"
@@ -33,7 +34,6 @@
 #include "vio_core/health_monitor.h"
 #include "vio_core/force_jump.h"
 #include "vio_core/initializer.h"
-#include "vio_core/measurements.h"
 #include "vio_core/pipeline_counters.h"
 #include "vio_core/pipeline_outputs.h"
 #include "vio_core/rate_fit.h"

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "types/measurements.h"
 #include "vio_core/flight_phase.h"
-#include "vio_core/measurements.h"
 
 namespace vid {
 

@@ -6,8 +6,8 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "types/measurements.h"
 #include "vio_core/flight_phase.h"
-#include "vio_core/measurements.h"
 #include "vio_core/state.h"
 
 namespace vid {

@@ -7,7 +7,7 @@
 #include <optional>
 #include <vector>
 
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid {
 

@@ -20,8 +20,8 @@
 #include <vector>
 
 #include "geometry/pose.h"
+#include "types/measurements.h"
 #include "vio_core/estimator_params.h"
-#include "vio_core/measurements.h"
 
 namespace vid {
 

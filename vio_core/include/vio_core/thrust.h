@@ -6,8 +6,8 @@
 
 #include <Eigen/Core>
 
-#include "vio_core/calibration.h"
-#include "vio_core/measurements.h"
+#include "types/calibration.h"
+#include "types/measurements.h"
 
 namespace vid {
 

@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <deque>
 
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid {
 

@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "vio_core/calibration.h"
+#include "types/calibration.h"
 #include "vio_core/estimator_params.h"
 #include "vio_core/msckf/visual_update.h"
 #include "vio_core/state.h"

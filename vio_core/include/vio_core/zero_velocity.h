@@ -20,7 +20,7 @@
 #include <utility>
 #include <vector>
 
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 #include "vio_core/state.h"
 
 namespace vid {

@@ -10,7 +10,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid::live {
 

@@ -16,7 +16,7 @@
 #include <vid/status_t.hpp>
 #include <vid/thrust_t.hpp>
 
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid::lcm_io {
 

@@ -33,8 +33,8 @@
 
 #include "sim/render/random.h"
 #include "sim/render/scene.h"
-#include "vio_core/calibration.h"
-#include "vio_core/measurements.h"
+#include "types/calibration.h"
+#include "types/measurements.h"
 
 namespace YAML {
 class Node;

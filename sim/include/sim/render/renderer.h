@@ -42,7 +42,7 @@
 
 #include "sim/render/camera_effects.h"
 #include "sim/render/scene.h"
-#include "vio_core/calibration.h"
+#include "types/calibration.h"
 
 namespace YAML {
 class Node;

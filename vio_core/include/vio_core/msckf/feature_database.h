@@ -9,7 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 #include "vio_core/msckf/msckf_types.h"
 
 namespace vid::msckf {

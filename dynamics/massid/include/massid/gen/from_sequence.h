@@ -7,7 +7,7 @@
 #include <filesystem>
 
 #include "massid/run_data.h"
-#include "vio_core/measurements.h"
+#include "types/measurements.h"
 
 namespace vid::massid::gen {
 

@@ -1,4 +1,4 @@
-#include "io/estimator_params_yaml.h"
+#include "vio_core/estimator_params_yaml.h"
 
 #include <sstream>
 #include <stdexcept>
@@ -6,7 +6,7 @@
 #include "io/number_format.h"
 #include "io/strict_yaml.h"
 
-namespace vid::io {
+namespace vid {
 namespace {
 
 // One table per field type, so loading and printing cannot drift apart.
@@ -100,7 +100,7 @@ const BoolField kBools[] = {
 };
 #undef VID_FIELD
 
-EstimatorParams from_map(const YamlMap& y) {
+EstimatorParams from_map(const io::YamlMap& y) {
   EstimatorParams p;
   if (y.has("mode")) {
     const std::string s = y.get_string("mode");
@@ -148,11 +148,11 @@ EstimatorParams from_map(const YamlMap& y) {
 }  // namespace
 
 EstimatorParams load_estimator_params(const std::filesystem::path& path) {
-  return from_map(YamlMap::load_file(path));
+  return from_map(io::YamlMap::load_file(path));
 }
 
 EstimatorParams load_estimator_params_string(const std::string& text, const std::string& name) {
-  return from_map(YamlMap::load_string(text, name));
+  return from_map(io::YamlMap::load_string(text, name));
 }
 
 std::string to_yaml(const EstimatorParams& p) {
@@ -162,17 +162,13 @@ std::string to_yaml(const EstimatorParams& p) {
      << "force_frame: " << to_string(p.force_frame) << "\n";
   for (const auto& f : kInts) os << f.key << ": " << p.*f.member << "\n";
   for (const auto& f : kBools) os << f.key << ": " << (p.*f.member ? "true" : "false") << "\n";
-  for (const auto& f : kDoubles) os << f.key << ": " << format_double(p.*f.member) << "\n";
+  for (const auto& f : kDoubles) os << f.key << ": " << io::format_double(p.*f.member) << "\n";
   return os.str();
 }
 
-}  // namespace vid::io
-
-namespace vid {
-std::ostream& operator<<(std::ostream& os, const EstimatorParams& params) { return os << io::to_yaml(params); }
+std::ostream& operator<<(std::ostream& os, const EstimatorParams& params) { return os << to_yaml(params); }
 
 bool operator==(const EstimatorParams& a, const EstimatorParams& b) {
-  using namespace io;
   if (a.mode != b.mode || a.init_mode != b.init_mode || a.force_frame != b.force_frame) return false;
   for (const auto& f : kDoubles) {
     if (a.*f.member != b.*f.member) return false;

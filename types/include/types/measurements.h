@@ -5,23 +5,15 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <cmath>
 #include <cstdint>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "geometry/pose.h"
+#include "types/time.h"
 
 namespace vid {
-
-/// Nanoseconds since an arbitrary epoch; the only time type in files and interfaces.
-using TimeNs = std::int64_t;
-
-/// @brief Convert nanoseconds to seconds (double).
-inline double ns_to_s(TimeNs t) { return static_cast<double>(t) * 1e-9; }
-/// @brief Convert seconds to nanoseconds (rounded to the nearest).
-inline TimeNs seconds_to_ns(double s) { return static_cast<TimeNs>(std::llround(s * 1e9)); }
 
 /// @brief A pose at a time: one row of a trajectory (trajectory_tum.txt, docs/formats.md §2).
 struct TimedPose {
