@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "types/median.h"
+
 namespace vid {
 
 AccelNoiseAdapter::AccelNoiseAdapter(double nominal_var, double window_s, double rate_hz)
@@ -58,10 +60,8 @@ void AccelNoiseAdapter::add(const Eigen::Vector3d& r_I, const Eigen::Vector3d& S
     R_(i) = noisy ? R_nom_ + (var - e_(i)) : R_nom_;
     scratch_.clear();
     for (const Eigen::Vector3d& h : hp_sq_window_) scratch_.push_back(h(i));
-    const auto mid = scratch_.begin() + static_cast<std::ptrdiff_t>(scratch_.size() / 2);
-    std::nth_element(scratch_.begin(), mid, scratch_.end());
     constexpr double kChi2MedianOne = 0.4549;  // median of chi2(1)
-    const double var_med = *mid / (kChi2MedianOne * white_gain_);
+    const double var_med = upper_median(scratch_) / (kChi2MedianOne * white_gain_);
     excess_(i) = var_med > kExcessRatio * e_(i) ? var_med - e_(i) : 0.0;
     inflated = inflated || noisy;
   }
