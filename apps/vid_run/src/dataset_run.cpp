@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "app/cli.h"
-#include "app/data_window.h"
-#include "app/image_depth.h"
-#include "app/prefetch.h"
-#include "app/progress.h"
+#include "vid_system/data_window.h"
+#include "vid_system/image_depth.h"
+#include "vid_system/prefetch.h"
+#include "vid_system/progress.h"
 #include "io/dataset_reader.h"
 #include "vid_system/input_checks.h"
 #include "vid_system/system.h"
@@ -75,7 +75,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   ro.max_gap_periods = opt.max_gap_periods;
   ro.gaps_as_warnings = opt.allow_gaps;
   ro.warn = [](const std::string& w) { spdlog::warn("{}", w); };
-  check_dataset_window(opt.dataset, ro, opt.start_s, opt.end_s);
+  system::check_dataset_window(opt.dataset, ro, opt.start_s, opt.end_s);
   io::DatasetReader reader(opt.dataset, ro);
   so.out_dir = opt.out_dir;
   so.config = opt.config;
@@ -93,7 +93,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   if (opt.smooth_lag_s) sp.config.estimator.smoother_lag_s = *opt.smooth_lag_s;
   system::System session(std::move(sp));
   if (opt.smooth_lag_s && !session.dynamics())
-    throw UsageError("--smooth: smoothing estimates the force, which needs dynamics mode (rotor0/ or thrust0/; "
+    throw system::UsageError("--smooth: smoothing estimates the force, which needs dynamics mode (rotor0/ or thrust0/; "
                      "not --mode imu)");
   session.frame_faults().set_strict(opt.strict);
 
@@ -101,7 +101,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   // frames ahead while this thread runs frontend + estimator; the session gets the same
   // measurements in the same order as with inline decoding. Started after the session so that
   // all decoding falls inside the session's CPU-time window.
-  PrefetchOptions po;
+  system::PrefetchOptions po;
   po.start_s = opt.start_s;
   po.end_s = opt.end_s.value_or(-1.0);
   po.decode_threads = std::max(0, opt.decode_threads);
@@ -109,17 +109,17 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   po.capacity = 1024;  // IMU / rotor / truth rows between the frames ahead
   po.background_nice = 5;  // short of cores, frontend + estimator run first (per-frame times)
   // 16-bit images: one scale per camera for the whole run, from samples of the stream.
-  const CameraDepths depths = source == system::FeatureSource::kImages
-                                  ? camera_bit_depths(reader.mav0(), session.params().config.frontend.image_bit_depth)
-                                  : CameraDepths{};
+  const system::CameraDepths depths = source == system::FeatureSource::kImages
+                                  ? system::camera_bit_depths(reader.mav0(), session.params().config.frontend.image_bit_depth)
+                                  : system::CameraDepths{};
   po.image_bits = {depths.bits(0), depths.bits(1)};
-  Prefetcher prefetch(reader, po);
+  system::Prefetcher prefetch(reader, po);
 
   // Progress over data time.
-  std::optional<TimeNs> t_last_data = last_timestamp(reader.mav0() / "imu0" / "data.csv");
+  std::optional<TimeNs> t_last_data = system::last_timestamp(reader.mav0() / "imu0" / "data.csv");
   std::optional<TimeNs> t0;
   TimeNs t_first_used = 0, t_last_used = 0;
-  std::unique_ptr<ProgressBar> bar;
+  std::unique_ptr<system::ProgressBar> bar;
   bool interrupted = false, diverged = false;
   nlohmann::json divergences = nlohmann::json::array();  // each, recovered or not
   std::optional<TimeNs> last_restart;
@@ -141,7 +141,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
         const TimeNs t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
         const TimeNs t_end = opt.end_s ? *t0 + static_cast<TimeNs>(*opt.end_s * 1e9) : INT64_MAX;
         const double total_s = t_last_data ? ns_to_s(std::min(*t_last_data, t_end) - t_start) : 1.0;
-        if (opt.progress) bar = std::make_unique<ProgressBar>("vid_run", total_s);
+        if (opt.progress) bar = std::make_unique<system::ProgressBar>("vid_run", total_s);
         t_first_used = t_start;
       }
       t_last_used = t;
@@ -184,7 +184,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   // Stop and join the decoders before the CPU totals are read; frames decoded ahead but never
   // used (interrupted run) still count as decoding, not as frontend + estimator time.
   prefetch.stop();
-  const PrefetchStats prefetch_stats = prefetch.stats();
+  const system::PrefetchStats prefetch_stats = prefetch.stats();
   session.add_unused_decode_cpu_ms(std::max(0.0, prefetch_stats.decode_cpu_ms - decode_cpu_pushed_ms));
   if (!interrupted && !diverged && !error) session.finish();
   if (session.status() == FilterStatus::kDiverged) diverged = true;
