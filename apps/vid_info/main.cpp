@@ -5,11 +5,11 @@
 #include <cstdio>
 #include <string>
 
-#include "vid_system/progress.h"
 #include "app/cli.h"
 #include "app/run_main.h"
 #include "io/dataset_reader.h"
 #include "summary.h"
+#include "vid_system/progress.h"
 
 int main(int argc, char** argv) {
   return vid::app::run_main("vid_info", [&]() -> int {

@@ -9,11 +9,11 @@
 #include <filesystem>
 #include <memory>
 
-#include "vid_system/progress.h"
 #include "app/view_launch.h"
 #include "commands.h"
 #include "massid/elm/study.h"
 #include "massid/elm/study_tables.h"
+#include "vid_system/progress.h"
 
 namespace vid::massid_app {
 namespace {

@@ -7,10 +7,10 @@
 #include <memory>
 #include <sstream>
 
-#include "vid_system/progress.h"
 #include "commands.h"
 #include "massid/gen/dataset_generator.h"
 #include "massid/gen/study_config.h"
+#include "vid_system/progress.h"
 
 namespace vid::massid_app {
 namespace {

@@ -9,11 +9,11 @@
 #include <iostream>
 #include <sstream>
 
-#include "vid_system/progress.h"
 #include "app/view_launch.h"
 #include "commands.h"
 #include "massid/filters/study_io.h"
 #include "massid/filters/study_runner.h"
+#include "vid_system/progress.h"
 
 namespace vid::massid_app {
 namespace {

@@ -11,13 +11,13 @@
 #include <stdexcept>
 #include <string>
 
-#include "vid_system/progress.h"
 #include "app/cli.h"
 #include "app/run_main.h"
 #include "sim/camera_along.h"
 #include "sim/dataset_sink.h"
 #include "sim/scenario.h"
 #include "sim/simulator.h"
+#include "vid_system/progress.h"
 
 int main(int argc, char** argv) {
   return vid::app::run_main("vid_sim", [&]() -> int {

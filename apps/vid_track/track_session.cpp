@@ -5,15 +5,15 @@
 #include <opencv2/imgcodecs.hpp>
 #include <variant>
 
-#include "vid_system/image_depth.h"
-#include "vid_system/progress.h"
 #include "frontend/image_decode.h"
 #include "frontend/klt_tracker.h"
 #include "frontend/track_drawing.h"
 #include "io/dataset_reader.h"
 #include "vid_system/frame_faults.h"
 #include "vid_system/frontend_stage.h"
+#include "vid_system/image_depth.h"
 #include "vid_system/outputs.h"
+#include "vid_system/progress.h"
 
 namespace vid::app {
 namespace {

@@ -12,10 +12,10 @@
 
 #include <opencv2/core.hpp>
 
-#include "vid_system/prefetch.h"
 #include "io/dataset_reader.h"
 #include "io/dataset_writer.h"
 #include "io/errors.h"
+#include "vid_system/prefetch.h"
 
 namespace vid::system {
 namespace {

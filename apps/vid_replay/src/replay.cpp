@@ -12,13 +12,13 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "io/csv_reader.h"
+#include "io/dataset_reader.h"
+#include "io/lcm/lcm_convert.h"
 #include "vid_system/data_window.h"
 #include "vid_system/image_depth.h"
 #include "vid_system/prefetch.h"
 #include "vid_system/progress.h"
-#include "io/csv_reader.h"
-#include "io/dataset_reader.h"
-#include "io/lcm/lcm_convert.h"
 
 namespace vid::replay {
 
