@@ -12,10 +12,10 @@
 #include <string>
 #include <typeinfo>
 
-#include "app/cli.h"
 #include "fuzz_util.h"
 #include "io/lcm/lcm_convert.h"
 #include "live/lcm_input.h"
+#include "vid_system/usage_error.h"
 
 namespace lio = vid::lcm_io;
 
