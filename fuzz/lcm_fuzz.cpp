@@ -2,7 +2,7 @@
 /// @brief libFuzzer target of the LCM input path of vid_live: payload decoding and checks
 /// (io/src/lcm/lcm_convert.cpp: decode<T>, from_lcm, validate_image) and the input checks of
 /// apps/vid_live/src/lcm_input.cpp (an LCM event log scanned by scan_lcm_log, a URL checked by
-/// check_lcm_url). Expected outcomes: lcm_io::DecodeError, app::UsageError, and the plain
+/// check_lcm_url). Expected outcomes: lcm_io::DecodeError, system::UsageError, and the plain
 /// std::runtime_error scan_lcm_log documents; anything else is a bug.
 ///
 /// Input: byte 0 mod 10 picks what the rest is (the digits '0'..'9' do): 0 imu_t, 1 image_t,
@@ -12,10 +12,10 @@
 #include <string>
 #include <typeinfo>
 
-#include "app/cli.h"
 #include "fuzz_util.h"
 #include "io/lcm/lcm_convert.h"
 #include "live/lcm_input.h"
+#include "vid_system/usage_error.h"
 
 namespace lio = vid::lcm_io;
 
@@ -61,7 +61,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     run(data[0] % 10, data + 1, size - 1);
   } catch (const lio::DecodeError&) {
-  } catch (const vid::app::UsageError&) {
+  } catch (const vid::system::UsageError&) {
   }
   return 0;
 }

@@ -5,11 +5,11 @@
 #include <cstdio>
 #include <string>
 
-#include "app/progress.h"
 #include "app/cli.h"
 #include "app/run_main.h"
 #include "io/dataset_reader.h"
 #include "summary.h"
+#include "vid_system/progress.h"
 
 int main(int argc, char** argv) {
   return vid::app::run_main("vid_info", [&]() -> int {
@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
     if (const auto code = vid::app::parse_cli(cli, argc, argv)) return *code;
 
     vid::io::DatasetReader reader(dataset, options);
-    vid::app::ProgressBar bar("vid_info", 1.0);
+    vid::system::ProgressBar bar("vid_info", 1.0);
     std::size_t n = 0;
     while (reader.next()) {
       if (++n % 4096 == 0) bar.update(reader.progress());

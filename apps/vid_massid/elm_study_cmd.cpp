@@ -9,11 +9,11 @@
 #include <filesystem>
 #include <memory>
 
-#include "app/progress.h"
 #include "app/view_launch.h"
 #include "commands.h"
 #include "massid/elm/study.h"
 #include "massid/elm/study_tables.h"
+#include "vid_system/progress.h"
 
 namespace vid::massid_app {
 namespace {
@@ -77,7 +77,7 @@ int run_study(const StudyOptions& o) {
                              (wants(o, 1) ? 2 * static_cast<int>(o.hidden.size()) : 0) +
                              (wants(o, 2) ? static_cast<int>(o.lambdas.size()) : 0) +
                              (wants(o, 3) ? o.max_train : 0);
-  app::ProgressBar bar("elm-study", steps_per_traj * static_cast<double>(trajectories.size()));
+  system::ProgressBar bar("elm-study", steps_per_traj * static_cast<double>(trajectories.size()));
   int done = 0;
   auto tick = [&](const std::string& what) { bar.update(++done, what); };
 

@@ -7,10 +7,10 @@
 #include <memory>
 #include <sstream>
 
-#include "app/progress.h"
 #include "commands.h"
 #include "massid/gen/dataset_generator.h"
 #include "massid/gen/study_config.h"
+#include "vid_system/progress.h"
 
 namespace vid::massid_app {
 namespace {
@@ -46,7 +46,7 @@ int run_generate(const GenerateOptions& o) {
   log.info("generating {} runs ({} trajectories x {} profiles x {}) into {}", total,
                settings.trajectories.size(), settings.profiles.size(), settings.runs, o.out);
   const auto t0 = std::chrono::steady_clock::now();
-  app::ProgressBar bar("generate", total);
+  system::ProgressBar bar("generate", total);
   const auto result = massid::gen::generate_dataset(
       settings, o.out, o.threads,
       [&](int done, int n) { bar.update(done, std::to_string(done) + "/" + std::to_string(n) + " runs"); },

@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
     if (argc > 1 && argv[1][0] != '-') {
       const std::string name = argv[1];
       if (cli.get_subcommands([&](CLI::App* s) { return s->check_name(name); }).empty())
-        throw vid::app::UsageError("unknown subcommand '" + name + "' (see --help)");
+        throw vid::system::UsageError("unknown subcommand '" + name + "' (see --help)");
     }
     if (const auto code = vid::app::parse_cli(cli, argc, argv)) return *code;
     return exit_code;

@@ -9,11 +9,11 @@
 #include <iostream>
 #include <sstream>
 
-#include "app/progress.h"
 #include "app/view_launch.h"
 #include "commands.h"
 #include "massid/filters/study_io.h"
 #include "massid/filters/study_runner.h"
+#include "vid_system/progress.h"
 
 namespace vid::massid_app {
 namespace {
@@ -59,7 +59,7 @@ int run_methods(const RunOptions& o) {
   runs << massid::runs_csv_header() << '\n';
   const int total = static_cast<int>(massid::select_runs(index, so.runs_per_case, so.selection_seed).size());
   spdlog::info("running {} on {} runs of {} with {} threads", o.methods, total, o.data, so.threads);
-  app::ProgressBar bar("run", total);
+  system::ProgressBar bar("run", total);
   massid::run_study(index, so, [&](const massid::RunResult& r, int done, int n) {
     for (const std::string& line : massid::runs_csv_lines(r)) runs << line << '\n';
     massid::write_estimates_csv(o.out, r);

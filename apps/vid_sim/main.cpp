@@ -11,13 +11,13 @@
 #include <stdexcept>
 #include <string>
 
-#include "app/progress.h"
 #include "app/cli.h"
 #include "app/run_main.h"
 #include "sim/camera_along.h"
 #include "sim/dataset_sink.h"
 #include "sim/scenario.h"
 #include "sim/simulator.h"
+#include "vid_system/progress.h"
 
 int main(int argc, char** argv) {
   return vid::app::run_main("vid_sim", [&]() -> int {
@@ -47,15 +47,15 @@ int main(int argc, char** argv) {
     cli.add_flag("--overwrite", overwrite, "with --camera-along: replace existing camera streams in OUT");
     if (const auto code = vid::app::parse_cli(cli, argc, argv)) return *code;
     if (quiet) spdlog::set_level(spdlog::level::warn);
-    if (along_file.empty() && overwrite) throw vid::app::UsageError("--overwrite: only with --camera-along");
+    if (along_file.empty() && overwrite) throw vid::system::UsageError("--overwrite: only with --camera-along");
     if (!along_file.empty() && (duration || !heading.empty()))
-      throw vid::app::UsageError("--camera-along: --duration and --initial-heading do not apply (the recording sets both)");
+      throw vid::system::UsageError("--camera-along: --duration and --initial-heading do not apply (the recording sets both)");
 
     vid::sim::Scenario sc = vid::sim::load_scenario(scenario_file);
     try {
       vid::sim::apply_run_options(sc, seed, duration, heading);
     } catch (const std::invalid_argument& e) {
-      throw vid::app::UsageError(e.what());
+      throw vid::system::UsageError(e.what());
     }
     if (no_noise) sc.noise = false;
     if (features_only) {
@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
       const double span_s = static_cast<double>(track.end_ns() - track.start_ns()) * 1e-9;
       spdlog::info("vid_sim: cameras of '{}' ({}), seed {}, along {} ({} poses, {:.1f} s){}", sc.name, scenario_file,
                    sc.seed, along_file, track.size(), span_s, sc.cameras.images ? " with images" : "");
-      vid::app::ProgressBar bar("vid_sim", span_s);
+      vid::system::ProgressBar bar("vid_sim", span_s);
       const std::uint64_t frames = vid::sim::write_camera_along(
           sc, track, out_dir, overwrite, [&](std::uint64_t k, std::uint64_t n) {
             bar.update(span_s * static_cast<double>(k) / static_cast<double>(n), std::to_string(k) + " frames");
@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
     vid::sim::Simulator sim(sc);
     spdlog::info("vid_sim: initial heading {:.1f} deg in the ground-truth world", sim.initial_heading_deg());
     vid::sim::DatasetSink sink(out_dir, sc, vid::sim::make_visual_output(sc), sim.R_GS());
-    vid::app::ProgressBar bar("vid_sim", sc.duration_s);
+    vid::system::ProgressBar bar("vid_sim", sc.duration_s);
     sim.run(sink, [&](double done, double) { bar.update(done, std::to_string(sink.camera_frames()) + " frames"); });
     sink.finish();
     bar.finish();

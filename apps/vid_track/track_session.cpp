@@ -5,15 +5,15 @@
 #include <opencv2/imgcodecs.hpp>
 #include <variant>
 
-#include "app/image_depth.h"
-#include "app/progress.h"
 #include "frontend/image_decode.h"
 #include "frontend/klt_tracker.h"
 #include "frontend/track_drawing.h"
 #include "io/dataset_reader.h"
 #include "vid_system/frame_faults.h"
 #include "vid_system/frontend_stage.h"
+#include "vid_system/image_depth.h"
 #include "vid_system/outputs.h"
+#include "vid_system/progress.h"
 
 namespace vid::app {
 namespace {
@@ -46,13 +46,13 @@ TrackSummary run_tracking(const TrackOptions& o) {
   const bool stereo = frontend.cameras() == 2;
   const KltTracker& tracker = frontend.tracker();
   // 16-bit images: one scale per camera for the whole run, from samples of the stream.
-  const CameraDepths depths = camera_bit_depths(reader.mav0(), o.params.image_bit_depth);
+  const system::CameraDepths depths = system::camera_bit_depths(reader.mav0(), o.params.image_bit_depth);
   TrackDrawer drawer;
   if (o.draw_dir) std::filesystem::create_directories(*o.draw_dir);
 
   CsvFile csv(o.out_csv);
   std::fprintf(csv.f, "%s\n", system::tracks_csv_header().c_str());
-  ProgressBar bar("vid_track", 1.0);
+  system::ProgressBar bar("vid_track", 1.0);
   TrackSummary s;
   system::FrameFaults faults;
   faults.set_strict(o.strict);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "dynamics/rk4.h"
+
 
 namespace vid::dynamics {
 
@@ -133,6 +135,14 @@ QuadrotorStateDot QuadrotorModel::derivative(double t_s, const QuadrotorState& x
   return d;
 }
 
+QuadrotorStateDot operator+(const QuadrotorStateDot& a, const QuadrotorStateDot& b) {
+  return {a.p_dot + b.p_dot, a.v_dot + b.v_dot, a.w_dot + b.w_dot, a.q_dot + b.q_dot, a.n_dot + b.n_dot};
+}
+
+QuadrotorStateDot operator*(double s, const QuadrotorStateDot& d) {
+  return {s * d.p_dot, s * d.v_dot, s * d.w_dot, s * d.q_dot, s * d.n_dot};
+}
+
 namespace {
 
 QuadrotorState add_scaled(const QuadrotorState& x, const QuadrotorStateDot& d, double h) {
@@ -155,17 +165,8 @@ QuadrotorState QuadrotorModel::rk4_step(double t_s, double dt_s, const Quadrotor
                                         const Environment& env) const {
   QuadrotorState x = x0;
   if (params_.motor_time_constant_s <= 0.0) x.rotor_speeds = clamp_speeds(n_cmd);
-  const QuadrotorStateDot k1 = derivative(t_s, x, n_cmd, env);
-  const QuadrotorStateDot k2 = derivative(t_s + 0.5 * dt_s, add_scaled(x, k1, 0.5 * dt_s), n_cmd, env);
-  const QuadrotorStateDot k3 = derivative(t_s + 0.5 * dt_s, add_scaled(x, k2, 0.5 * dt_s), n_cmd, env);
-  const QuadrotorStateDot k4 = derivative(t_s + dt_s, add_scaled(x, k3, dt_s), n_cmd, env);
-  QuadrotorStateDot sum;
-  sum.p_dot = k1.p_dot + 2.0 * k2.p_dot + 2.0 * k3.p_dot + k4.p_dot;
-  sum.v_dot = k1.v_dot + 2.0 * k2.v_dot + 2.0 * k3.v_dot + k4.v_dot;
-  sum.w_dot = k1.w_dot + 2.0 * k2.w_dot + 2.0 * k3.w_dot + k4.w_dot;
-  sum.q_dot = k1.q_dot + 2.0 * k2.q_dot + 2.0 * k3.q_dot + k4.q_dot;
-  sum.n_dot = k1.n_dot + 2.0 * k2.n_dot + 2.0 * k3.n_dot + k4.n_dot;
-  QuadrotorState y = add_scaled(x, sum, dt_s / 6.0);
+  auto f = [&](double t, const QuadrotorState& s) { return derivative(t, s, n_cmd, env); };
+  QuadrotorState y = dynamics::rk4_step<QuadrotorStateDot>(t_s, dt_s, x, f, add_scaled);
   y.q_WI.normalize();
   return y;
 }

@@ -1,5 +1,5 @@
 /// @file system_bindings.cpp
-/// @brief Python bindings of vid::system::System (push-style) and of vid_run's dataset run.
+/// @brief Python bindings of vid::system::System (push-style) and of its dataset run (vid_system/dataset_run.h, as vid_run).
 ///
 /// numpy in and out: samples are pushed one at a time or as arrays (IMU), images as uint8
 /// arrays; the estimates come back as numpy arrays (history()) or as one dict (latest()).
@@ -18,7 +18,7 @@
 
 #include "io/dataset_reader.h"
 #include "io/errors.h"
-#include "vid_run/dataset_run.h"
+#include "vid_system/dataset_run.h"
 #include "vid_system/summary.h"
 #include "vid_system/system.h"
 #include "vid_version/version.h"
@@ -233,7 +233,7 @@ class PySystem {
 py::object run_dataset(const fs::path& dataset, const fs::path& out_dir, std::optional<fs::path> config,
                        std::optional<std::string> mode, std::optional<std::string> init, const std::string& features,
                        double start_s, std::optional<double> end_s, bool strict, int decode_threads, bool progress) {
-  app::RunOptions o;
+  system::RunOptions o;
   o.dataset = dataset;
   o.out_dir = out_dir;
   o.config = std::move(config);
@@ -248,7 +248,7 @@ py::object run_dataset(const fs::path& dataset, const fs::path& out_dir, std::op
   {
     const std::atomic<bool> stop{false};
     py::gil_scoped_release nogil;
-    app::run(o, stop);
+    system::run_dataset(o, stop);
   }
   return py::module_::import("json").attr("loads")(
       py::module_::import("pathlib").attr("Path")(out_dir / "summary.json").attr("read_text")());

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "dynamics/rk4.h"
 #include "geometry/so3.h"
 
 namespace vid::massid::test {
@@ -39,21 +40,25 @@ Eigen::Matrix3d reference_attitude(const MiniSimConfig& c, double t, double* f_n
   return R;
 }
 
-/// Continuous eq. 47 derivative for RK4 (quaternion as 4 coefficients).
-void derivative(const Truth& s, double T, const Eigen::Vector3d& w, double m, Eigen::Vector4d* dq,
-                Eigen::Vector3d* dp, Eigen::Vector3d* dv) {
+/// Derivative of a Truth (quaternion as its 4 coefficients).
+struct TruthDot {
+  Eigen::Vector4d dq;
+  Eigen::Vector3d dp, dv;
+};
+TruthDot operator+(const TruthDot& a, const TruthDot& b) { return {a.dq + b.dq, a.dp + b.dp, a.dv + b.dv}; }
+TruthDot operator*(double k, const TruthDot& d) { return {k * d.dq, k * d.dp, k * d.dv}; }
+
+/// Continuous eq. 47 derivative for RK4.
+TruthDot derivative(const Truth& s, double T, const Eigen::Vector3d& w, double m) {
   const Eigen::Quaterniond qd = s.q_WI * Eigen::Quaterniond(0.0, 0.5 * w.x(), 0.5 * w.y(), 0.5 * w.z());
-  *dq = qd.coeffs();
-  *dp = s.v_WI;
-  *dv = s.q_WI * Eigen::Vector3d(0, 0, T / m) + Eigen::Vector3d(0, 0, -kGravity);
+  return {qd.coeffs(), s.v_WI, s.q_WI * Eigen::Vector3d(0, 0, T / m) + Eigen::Vector3d(0, 0, -kGravity)};
 }
 
-Truth add(const Truth& s, double h, const Eigen::Vector4d& dq, const Eigen::Vector3d& dp,
-          const Eigen::Vector3d& dv) {
+Truth add(const Truth& s, const TruthDot& d, double h) {
   Truth o;
-  o.q_WI.coeffs() = s.q_WI.coeffs() + h * dq;
-  o.p_WI = s.p_WI + h * dp;
-  o.v_WI = s.v_WI + h * dv;
+  o.q_WI.coeffs() = s.q_WI.coeffs() + h * d.dq;
+  o.p_WI = s.p_WI + h * d.dp;
+  o.v_WI = s.v_WI + h * d.dv;
   return o;
 }
 
@@ -103,14 +108,8 @@ MassIdRun simulate_loop(const MiniSimConfig& c) {
     const double h = dt / sub;
     for (int i = 0; i < sub; ++i) {
       const double m = c.mass(t + i * h);
-      Eigen::Vector4d k1q, k2q, k3q, k4q;
-      Eigen::Vector3d k1p, k2p, k3p, k4p, k1v, k2v, k3v, k4v;
-      derivative(x, s.thrust_cmd, s.w_I, m, &k1q, &k1p, &k1v);
-      derivative(add(x, h / 2, k1q, k1p, k1v), s.thrust_cmd, s.w_I, m, &k2q, &k2p, &k2v);
-      derivative(add(x, h / 2, k2q, k2p, k2v), s.thrust_cmd, s.w_I, m, &k3q, &k3p, &k3v);
-      derivative(add(x, h, k3q, k3p, k3v), s.thrust_cmd, s.w_I, m, &k4q, &k4p, &k4v);
-      x = add(x, h / 6, k1q + 2 * k2q + 2 * k3q + k4q, k1p + 2 * k2p + 2 * k3p + k4p,
-              k1v + 2 * k2v + 2 * k3v + k4v);
+      auto f = [&](double /*t*/, const Truth& y) { return derivative(y, s.thrust_cmd, s.w_I, m); };
+      x = dynamics::rk4_step<TruthDot>(t + i * h, h, x, f, add);
       x.q_WI.normalize();
     }
   }

@@ -10,6 +10,7 @@
 
 #include <map>
 
+#include "dynamics/rk4.h"
 #include "sim_test_util.h"
 
 namespace vid::sim::test {
@@ -20,31 +21,34 @@ struct NavState {
   Eigen::Vector3d v, p;
 };
 
-/// @brief RK4 strapdown integration with inputs linearly interpolated between samples.
+/// Derivative of a NavState (q as four plain coefficients w, x, y, z).
+struct NavDot {
+  Eigen::Vector4d dq;
+  Eigen::Vector3d dv, dp;
+};
+NavDot operator+(const NavDot& a, const NavDot& b) { return {a.dq + b.dq, a.dv + b.dv, a.dp + b.dp}; }
+NavDot operator*(double k, const NavDot& d) { return {k * d.dq, k * d.dv, k * d.dp}; }
+
+/// @brief RK4 (dynamics/rk4.h) strapdown integration with inputs linearly interpolated between samples.
 NavState integrate(NavState x, const ImuSample& a, const ImuSample& b, const Eigen::Vector3d& bg,
                    const Eigen::Vector3d& ba, const Eigen::Vector3d& g_W) {
   const double h = static_cast<double>(b.t_ns - a.t_ns) * 1e-9;
-  struct D {
-    Eigen::Vector4d dq;
-    Eigen::Vector3d dv, dp;
-  };
-  auto f = [&](const NavState& s, double alpha) {
+  auto f = [&](double t, const NavState& s) {
+    const double alpha = t / h;  // 0, 1/2, 1: exact
     const Eigen::Vector3d w = (1 - alpha) * a.gyro_I + alpha * b.gyro_I - bg;
     const Eigen::Vector3d acc = (1 - alpha) * a.accel_I + alpha * b.accel_I - ba;
     const Eigen::Quaterniond qn = s.q.normalized();
     const Eigen::Quaterniond qd = s.q * Eigen::Quaterniond(0, w.x(), w.y(), w.z());
-    return D{0.5 * Eigen::Vector4d(qd.w(), qd.x(), qd.y(), qd.z()), qn * acc + g_W, s.v};
+    return NavDot{0.5 * Eigen::Vector4d(qd.w(), qd.x(), qd.y(), qd.z()), qn * acc + g_W, s.v};
   };
-  auto add = [](const NavState& s, const D& d, double k) {
+  auto add = [](const NavState& s, const NavDot& d, double k) {
     NavState o;
     o.q = Eigen::Quaterniond(s.q.w() + k * d.dq[0], s.q.x() + k * d.dq[1], s.q.y() + k * d.dq[2], s.q.z() + k * d.dq[3]);
     o.v = s.v + k * d.dv;
     o.p = s.p + k * d.dp;
     return o;
   };
-  const D k1 = f(x, 0.0), k2 = f(add(x, k1, h / 2), 0.5), k3 = f(add(x, k2, h / 2), 0.5), k4 = f(add(x, k3, h), 1.0);
-  D s{k1.dq + 2 * k2.dq + 2 * k3.dq + k4.dq, k1.dv + 2 * k2.dv + 2 * k3.dv + k4.dv, k1.dp + 2 * k2.dp + 2 * k3.dp + k4.dp};
-  x = add(x, s, h / 6);
+  x = dynamics::rk4_step<NavDot>(0.0, h, x, f, add);
   x.q.normalize();
   return x;
 }

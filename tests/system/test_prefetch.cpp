@@ -1,4 +1,4 @@
-/// Decode-ahead reader (apps/common app::Prefetcher, used by vid_run and vid_replay): whatever
+/// Decode-ahead reader (system/ vid_dataset_input: system::Prefetcher, used by vid_run and vid_replay): whatever
 /// the number of decoding threads and however small the queue, the consumer gets the same
 /// measurements in the same order with the same decoded images as with inline decoding; the
 /// time window, unreadable images, reader errors and early destruction behave as inline.
@@ -12,12 +12,12 @@
 
 #include <opencv2/core.hpp>
 
-#include "app/prefetch.h"
 #include "io/dataset_reader.h"
 #include "io/dataset_writer.h"
 #include "io/errors.h"
+#include "vid_system/prefetch.h"
 
-namespace vid::app {
+namespace vid::system {
 namespace {
 
 namespace fs = std::filesystem;
@@ -187,4 +187,4 @@ TEST(Prefetcher, DestroyedMidStreamStopsItsThreads) {
 }
 
 }  // namespace
-}  // namespace vid::app
+}  // namespace vid::system

@@ -26,7 +26,7 @@ std::string one_line(const char* what) {
 int run_main(const std::string& program, const std::function<int()>& body) {
   try {
     return body();
-  } catch (const UsageError& e) {
+  } catch (const system::UsageError& e) {
     std::fprintf(stderr, "%s: error: %s\n", program.c_str(), one_line(e.what()).c_str());
     return 2;
   } catch (const std::exception& e) {

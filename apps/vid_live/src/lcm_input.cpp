@@ -20,7 +20,7 @@ namespace vid::live {
 
 namespace {
 
-using app::UsageError;
+using system::UsageError;
 
 bool parse_number(const std::string& s, double* v) {
   if (s.empty()) return false;

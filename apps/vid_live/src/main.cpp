@@ -157,7 +157,7 @@ int main(int argc, char** argv) {
 
     vid::live::LiveEngine engine(opt, publisher);
     if (lag_s > 0.0 && !engine.dynamics())
-      throw vid::app::UsageError("--lag: smoothing estimates the force, which needs dynamics mode (rotor speeds or "
+      throw vid::system::UsageError("--lag: smoothing estimates the force, which needs dynamics mode (rotor speeds or "
                                  "--thrust; not --mode imu)");
     engine.subscribe(input);
     engine.start();

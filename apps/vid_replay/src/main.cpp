@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
     vid::live::check_lcm_url(opt.lcm_url, "--lcm-url", /*for_input=*/false);  // LCM's own lines otherwise
     opt.dataset = dataset;
     if (stall.size() == 2) {
-      if (stall[0] < 0.0 || stall[1] <= 0.0) throw vid::app::UsageError("--camera-stall: START >= 0 and DURATION > 0 expected");
+      if (stall[0] < 0.0 || stall[1] <= 0.0) throw vid::system::UsageError("--camera-stall: START >= 0 and DURATION > 0 expected");
       f.stall_start_s = stall[0];
       f.stall_s = stall[1];
     }

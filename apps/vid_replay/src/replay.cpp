@@ -12,13 +12,13 @@
 
 #include <lcm/lcm-cpp.hpp>
 
-#include "app/data_window.h"
-#include "app/image_depth.h"
-#include "app/prefetch.h"
-#include "app/progress.h"
 #include "io/csv_reader.h"
 #include "io/dataset_reader.h"
 #include "io/lcm/lcm_convert.h"
+#include "vid_system/data_window.h"
+#include "vid_system/image_depth.h"
+#include "vid_system/prefetch.h"
+#include "vid_system/progress.h"
 
 namespace vid::replay {
 
@@ -82,7 +82,7 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   ro.gaps_as_warnings = true;  // published as recorded: the receiver meets the gap and reports it
   ro.warn = [](const std::string& w) { spdlog::warn("{}", w); };
   ro.read_images = !opt.no_camera;
-  app::check_dataset_window(opt.dataset, ro, opt.start_s, opt.end_s);
+  system::check_dataset_window(opt.dataset, ro, opt.start_s, opt.end_s);
   io::DatasetReader reader(opt.dataset, ro);
   check_camera(reader, opt);
   const std::string rotor_unit = reader.calibration().rotor ? reader.calibration().rotor->unit : "rpm";
@@ -146,7 +146,7 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
   TimeNs t_first = 0;  // first replayed measurement: a pass covers [t_first, t_first + period)
   const auto wall_start = std::chrono::steady_clock::now();
   auto wall_anchor = wall_start;
-  std::unique_ptr<app::ProgressBar> bar;
+  std::unique_ptr<system::ProgressBar> bar;
 
   std::map<std::string, long> late;
   const TimeNs late_ns = static_cast<TimeNs>(fo.late_ms * 1e6);
@@ -221,17 +221,17 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
     }
   };
 
-  app::PrefetchOptions po;  // one thread reads and decodes ahead of the publishing schedule
+  system::PrefetchOptions po;  // one thread reads and decodes ahead of the publishing schedule
   po.start_s = opt.start_s;
   po.end_s = opt.end_s.value_or(-1.0);
   po.decode_threads = 1;
   po.capacity = 256;
-  const app::CameraDepths depths = app::camera_bit_depths(reader.mav0(), opt.image_bit_depth);
+  const system::CameraDepths depths = system::camera_bit_depths(reader.mav0(), opt.image_bit_depth);
   po.image_bits = {depths.bits(0), depths.bits(1)};
   for (int pass = 0; pass < loops && !stop.load(); ++pass) {
     std::optional<io::DatasetReader> again;  // a pass reads the folder afresh
     if (pass > 0) again.emplace(opt.dataset, ro);
-    app::Prefetcher prefetch(pass > 0 ? *again : reader, po);
+    system::Prefetcher prefetch(pass > 0 ? *again : reader, po);
     if (!opt.fast) prefetch.wait_ready();
     image_index.clear();
     if (pass > 0) plan_malformed();
@@ -245,7 +245,7 @@ nlohmann::json replay(const ReplayOptions& opt, const std::atomic<bool>& stop) {
         t0 = p->t0;
         t_start = *t0 + static_cast<TimeNs>(opt.start_s * 1e9);
         if (opt.end_s) t_end = *t0 + static_cast<TimeNs>(*opt.end_s * 1e9);
-        if (opt.progress) bar = std::make_unique<app::ProgressBar>("vid_replay", 1.0);
+        if (opt.progress) bar = std::make_unique<system::ProgressBar>("vid_replay", 1.0);
         t_first = t_data;
         if (fo.malformed > 0 || opt.progress || loops > 1) read_imu_times(t_start, t_end);
         if (loops > 1 && period <= 0) throw std::runtime_error(opt.dataset.string() + ": --loop needs at least two IMU samples");

@@ -9,7 +9,7 @@
 #include "app/cli.h"
 #include "app/run_main.h"
 #include "app/view_launch.h"
-#include "vid_run/dataset_run.h"
+#include "vid_system/dataset_run.h"
 
 namespace {
 std::atomic<bool> g_stop{false};
@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
   spdlog::set_pattern("%^vid_run: %l:%$ %v");
   return vid::app::run_main("vid_run", [&]() -> int {
     CLI::App app{"vid_run: estimate pose and external force on a dataset folder (EuRoC/ASL + extensions)"};
-    vid::app::RunOptions opt;
+    vid::system::RunOptions opt;
     std::string config, mode, init, features = "auto";
     app.add_option("--dataset", opt.dataset, "dataset folder (SEQ or SEQ/mav0)")->required();
     app.add_option("--out", opt.out_dir, "output folder (created)")->required();
@@ -77,11 +77,11 @@ int main(int argc, char** argv) {
     std::signal(SIGINT, on_sigint);
     std::signal(SIGTERM, on_sigint);
     if (!rerun.empty()) opt.write_tracks = true;
-    const auto result = vid::app::run(opt, g_stop);
-    if (!rerun.empty() && result != vid::app::RunResult::kInterrupted)
+    const auto result = vid::system::run_dataset(opt, g_stop);
+    if (!rerun.empty() && result != vid::system::RunResult::kInterrupted)
       vid::app::write_rerun_recording(argv[0], opt.out_dir, opt.dataset, rerun);
-    if (result == vid::app::RunResult::kDiverged) spdlog::error("the estimator diverged (see summary.json)");
-    if (result == vid::app::RunResult::kInterrupted) spdlog::warn("interrupted: outputs and summary.json written");
+    if (result == vid::system::RunResult::kDiverged) spdlog::error("the estimator diverged (see summary.json)");
+    if (result == vid::system::RunResult::kInterrupted) spdlog::warn("interrupted: outputs and summary.json written");
     return static_cast<int>(result);
   });
 }

@@ -63,6 +63,11 @@ struct QuadrotorStateDot {
   Eigen::VectorXd n_dot;
 };
 
+/// @brief Member-wise sum of two derivatives (they form a vector space, as dynamics::rk4_step needs).
+QuadrotorStateDot operator+(const QuadrotorStateDot& a, const QuadrotorStateDot& b);
+/// @brief Every member of a derivative scaled by s.
+QuadrotorStateDot operator*(double s, const QuadrotorStateDot& d);
+
 /// @brief Everything outside the vehicle: external force and current mass, both possibly
 /// state- and time-dependent (ropes, wind, payloads). Must be deterministic.
 class Environment {
@@ -117,7 +122,8 @@ class QuadrotorModel {
   /// @brief State derivative with rotor speed command n_cmd (held constant).
   QuadrotorStateDot derivative(double t_s, const QuadrotorState& x, const Eigen::VectorXd& n_cmd,
                                const Environment& env) const;
-  /// @brief One classic RK4 step of length dt with n_cmd held (zero-order hold).
+  /// @brief One classical RK4 step (dynamics/rk4.h) of length dt with n_cmd held (zero-order
+  /// hold); q is integrated as four plain coefficients and normalized after the step.
   QuadrotorState rk4_step(double t_s, double dt_s, const QuadrotorState& x,
                           const Eigen::VectorXd& n_cmd, const Environment& env) const;
 

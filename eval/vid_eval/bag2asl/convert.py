@@ -100,7 +100,7 @@ def _require_rotors(tmap, profile: str, resolved, bag: Bag, allowed: bool) -> No
 
 def _window(bag: Bag, opts: Options) -> tuple[int | None, int | None]:
     """--start/--end as bag times; negative, empty or outside the bag: a usage error stating
-    the bag's span (the rule of the C++ programs' --start/--end, vid::app::check_window)."""
+    the bag's span (the rule of the C++ programs' --start/--end, vid::system::check_window)."""
     span_s = (bag.end_ns - bag.start_ns) * 1e-9
     span = f"{bag.path}: the bag spans 0 to {span_s:.3f} s"
     start = stop = None

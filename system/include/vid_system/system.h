@@ -58,7 +58,7 @@ class System {
   /// skips its frame (counted in summary.json). 16-bit images use the frontend's
   /// image_bit_depth, or with 0 (auto) the depth found from each camera's first image, kept
   /// for the run (programs that know the whole stream find it from samples and push decoded
-  /// frames: app::camera_bit_depths).
+  /// frames: system::camera_bit_depths).
   void push(const ImageFrame& frame);
   /// @brief A camera frame as decoded images; checked and counted as push(ImageFrame).
   void push(const StereoFrame& frame);

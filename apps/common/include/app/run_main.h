@@ -1,7 +1,7 @@
 #pragma once
 /// @file run_main.h
 /// @brief Runs a program body, turning any exception into one "PROGRAM: error: ..." line
-/// on stderr and exit code 1, 2 for a vid::app::UsageError (docs/design.md §3: bad input never
+/// on stderr and exit code 1, 2 for a vid::system::UsageError (docs/design.md §3: bad input never
 /// crashes a program).
 
 #include <functional>

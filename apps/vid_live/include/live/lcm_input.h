@@ -14,7 +14,7 @@ namespace vid::live {
 /// @brief Validate an LCM URL given to @p flag: known provider (udpm, mpudpm, file, memq,
 /// tcpq), udpm address multicast and port a number, known options with valid values (file:
 /// speed >= 0, mode r/w/a, start_timestamp; udpm: ttl 0-255, recv_buf_size, transmit_only).
-/// @p for_input: a file:// log must be read (mode r). Throws vid::app::UsageError (exit 2).
+/// @p for_input: a file:// log must be read (mode r). Throws vid::system::UsageError (exit 2).
 void check_lcm_url(const std::string& url, const std::string& flag, bool for_input);
 
 /// @brief The file of a file:// URL (without the options).

@@ -49,7 +49,7 @@ struct ReplayOptions {
   int loops = 1;
   bool progress = true;
   /// Significant bits of 16-bit images (published as mono8 scaled by 2^(bits-8)); 0 = auto
-  /// per camera stream from sample images (app::camera_bit_depths), as vid_run decodes them.
+  /// per camera stream from sample images (system::camera_bit_depths), as vid_run decodes them.
   int image_bit_depth = 0;
   /// Publish without the camera (IMU, rotors / thrust only), said in one warning line; without
   /// it a folder with no cam0/ images (e.g. feature-level feat0/ data) is refused.

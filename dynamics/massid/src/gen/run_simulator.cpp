@@ -8,6 +8,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "dynamics/rk4.h"
 #include "geometry/so3.h"
 #include "massid/gen/mass_profile.h"
 #include "massid/gen/mpc_controller.h"
@@ -26,7 +27,15 @@ std::uint64_t fnv1a(const std::string& s) {
   return h;
 }
 
-/// One RK4 step of p' = v, v' = R(s) (T/m(s)) e3 + g over [t0, t0 + h] with R(s) = R0 Exp(w (s - tk)).
+/// Position and velocity of the vehicle, and their time derivative (same type: a vector space).
+struct Translation {
+  Eigen::Vector3d p, v;
+};
+Translation operator+(const Translation& a, const Translation& b) { return {a.p + b.p, a.v + b.v}; }
+Translation operator*(double s, const Translation& d) { return {s * d.p, s * d.v}; }
+
+/// p' = v, v' = R(s) (T/m(s)) e3 + g over the sample interval with R(s) = R0 Exp(w (s - tk)),
+/// integrated by dynamics::rk4_step.
 struct TranslationalModel {
   Eigen::Matrix3d R_WI_k;  ///< attitude at the start of the sample interval t_k
   Eigen::Vector3d w_I;
@@ -42,13 +51,15 @@ struct TranslationalModel {
     const double m = mass->mass_kg(std::min(s, t_k_end - 1e-9 * (t_k_end - t_k)));
     return R.col(2) * (thrust_N / m) + g_W;
   }
-  void rk4(double t0, double h, Eigen::Vector3d* p, Eigen::Vector3d* v) const {
-    const Eigen::Vector3d k1p = *v, k1v = accel(t0);
-    const Eigen::Vector3d k2p = *v + 0.5 * h * k1v, k2v = accel(t0 + 0.5 * h);
-    const Eigen::Vector3d k3p = *v + 0.5 * h * k2v, k3v = k2v;  // accel depends on s only
-    const Eigen::Vector3d k4p = *v + h * k3v, k4v = accel(t0 + h);
-    *p += h / 6.0 * (k1p + 2.0 * k2p + 2.0 * k3p + k4p);
-    *v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+  void step(double t0, double h, Eigen::Vector3d* p, Eigen::Vector3d* v) const {
+    auto f = [this](double s, const Translation& x) { return Translation{x.v, accel(s)}; };
+    // One expression per member, x + k d, as the step this replaced (same roundings).
+    auto add_scaled = [](const Translation& x, const Translation& d, double k) {
+      return Translation{x.p + k * d.p, x.v + k * d.v};
+    };
+    const Translation y = dynamics::rk4_step<Translation>(t0, h, Translation{*p, *v}, f, add_scaled);
+    *p = y.p;
+    *v = y.v;
   }
 };
 
@@ -134,7 +145,7 @@ SimulatedRun simulate_run(const GeneratorSettings& s, const std::string& traject
     const double t_next = static_cast<double>(k + 1) / s.rate_hz;
     TranslationalModel model{q_WI.toRotationMatrix(), u.w_I, u.thrust_N, t, t_next, g_W, &mass};
     const double h = (t_next - t) / s.integration_substeps;
-    for (int i = 0; i < s.integration_substeps; ++i) model.rk4(t + i * h, h, &p_WI, &v_WI);
+    for (int i = 0; i < s.integration_substeps; ++i) model.step(t + i * h, h, &p_WI, &v_WI);
     q_WI = (q_WI * so3::quat_exp(u.w_I * (t_next - t))).normalized();
   }
   out.stats.position_rmse_m = std::sqrt(sq_err / static_cast<double>(n));

@@ -6,7 +6,7 @@
 /// Timing: sample k is at t_k = k / rate_hz. Its row holds the measured q, p, v at t_k and the
 /// commands computed from them; the commands are held (zero-order hold) on [t_k, t_{k+1}).
 /// True dynamics (docs/model.md eq. (55)): q' = 1/2 q ⊗ [0, w], p' = v, v' = R(q) (T/m) e3 + g_W, integrated
-/// with the exact rotation for constant w and RK4 for p, v (integration_substeps per sample).
+/// with the exact rotation for constant w and RK4 (dynamics/rk4.h) for p, v (integration_substeps per sample).
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

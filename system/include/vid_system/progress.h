@@ -5,7 +5,7 @@
 #include <chrono>
 #include <string>
 
-namespace vid::app {
+namespace vid::system {
 
 /// @brief Terminal progress bar: fraction, rate, ETA and a caller-supplied extra text.
 class ProgressBar {
@@ -31,4 +31,4 @@ class ProgressBar {
   void draw(double done, const std::string& extra);
 };
 
-}  // namespace vid::app
+}  // namespace vid::system

@@ -9,7 +9,7 @@
 
 #include "frontend/image_decode.h"
 
-namespace vid::app {
+namespace vid::system {
 
 /// @brief Bit depth per camera id 0 / 1 (what vid::decode_gray8 takes as significant_bits).
 struct CameraDepths {
@@ -24,4 +24,4 @@ struct CameraDepths {
 /// @param mav0 the dataset's mav0 folder (io::DatasetReader::mav0())
 CameraDepths camera_bit_depths(const std::filesystem::path& mav0, int configured);
 
-}  // namespace vid::app
+}  // namespace vid::system

@@ -1,4 +1,4 @@
-#include "vid_run/dataset_run.h"
+#include "vid_system/dataset_run.h"
 
 #include <spdlog/spdlog.h>
 
@@ -10,16 +10,16 @@
 #include <stdexcept>
 #include <vector>
 
-#include "app/cli.h"
-#include "app/data_window.h"
-#include "app/image_depth.h"
-#include "app/prefetch.h"
-#include "app/progress.h"
 #include "io/dataset_reader.h"
+#include "vid_system/data_window.h"
+#include "vid_system/image_depth.h"
 #include "vid_system/input_checks.h"
+#include "vid_system/prefetch.h"
+#include "vid_system/progress.h"
 #include "vid_system/system.h"
+#include "vid_system/usage_error.h"
 
-namespace vid::app {
+namespace vid::system {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -30,7 +30,7 @@ constexpr double kPersistentFaultS = 10.0;
 
 // A run that never initialized, or that used no camera frame, has no estimate worth an exit 0
 // (its summary.json may still show a perfect-looking ATE over a few IMU-only estimates).
-RunResult honest_end(const system::System& session, const nlohmann::json& s) {
+RunResult honest_end(const System& session, const nlohmann::json& s) {
   if (session.status() == FilterStatus::kWaitingForInit) {
     spdlog::error("the estimator never initialized: {} (README \"Initialization\")", session.status_message());
     return RunResult::kNotInitialized;
@@ -47,12 +47,12 @@ RunResult honest_end(const system::System& session, const nlohmann::json& s) {
 }
 }  // namespace
 
-RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
+RunResult run_dataset(const RunOptions& opt, const std::atomic<bool>& stop) {
   const auto wall_start = Clock::now();
   fs::create_directories(opt.out_dir);
 
   // Probe which streams exist, then open the reader with exactly the streams needed.
-  system::SystemOptions so;
+  SystemOptions so;
   bool has_images = false, has_feat = false;
   {
     io::DatasetReader probe(opt.dataset);
@@ -61,17 +61,17 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
     so.has_rotor = probe.has_stream("rotor0");
     so.has_thrust = probe.has_stream("thrust0");
   }
-  system::FeatureSource source = opt.features;
-  if (source == system::FeatureSource::kAuto) source = has_images ? system::FeatureSource::kImages : system::FeatureSource::kFeat0;
-  if (source == system::FeatureSource::kImages && !has_images)
+  FeatureSource source = opt.features;
+  if (source == FeatureSource::kAuto) source = has_images ? FeatureSource::kImages : FeatureSource::kFeat0;
+  if (source == FeatureSource::kImages && !has_images)
     throw std::runtime_error(opt.dataset.string() + ": --features images, but the dataset has no cam0/data.csv");
-  if (source == system::FeatureSource::kFeat0 && !has_feat)
+  if (source == FeatureSource::kFeat0 && !has_feat)
     throw std::runtime_error(opt.dataset.string() + ": the dataset has neither cam0/data.csv images nor feat0/data.csv");
 
   io::ReaderOptions ro;
   ro.list_missing_images = true;  // the session skips a frame with a missing image, as with an unreadable one
-  ro.read_images = source == system::FeatureSource::kImages;
-  ro.read_features = source == system::FeatureSource::kFeat0;
+  ro.read_images = source == FeatureSource::kImages;
+  ro.read_features = source == FeatureSource::kFeat0;
   ro.max_gap_periods = opt.max_gap_periods;
   ro.gaps_as_warnings = opt.allow_gaps;
   ro.warn = [](const std::string& w) { spdlog::warn("{}", w); };
@@ -84,14 +84,14 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   so.features = source;
   so.context = opt.dataset.string();
   so.write_tracks = opt.write_tracks;
-  system::SystemParams sp = system::make_system_params(so, reader.calibration());
+  SystemParams sp = make_system_params(so, reader.calibration());
   // The estimator discretizes the IMU noise at its configured rate: a wrong rate is an error.
   const fs::path imu_csv = reader.mav0() / "imu0" / "data.csv";
-  system::check_imu_extrinsic(sp.config, reader.mav0() / "imu0" / "sensor.yaml");
-  if (const auto hz = system::median_rate_hz(imu_csv))
-    system::check_imu_rate(sp.config, *hz, reader.mav0() / "imu0" / "sensor.yaml", imu_csv.string());
+  check_imu_extrinsic(sp.config, reader.mav0() / "imu0" / "sensor.yaml");
+  if (const auto hz = median_rate_hz(imu_csv))
+    check_imu_rate(sp.config, *hz, reader.mav0() / "imu0" / "sensor.yaml", imu_csv.string());
   if (opt.smooth_lag_s) sp.config.estimator.smoother_lag_s = *opt.smooth_lag_s;
-  system::System session(std::move(sp));
+  System session(std::move(sp));
   if (opt.smooth_lag_s && !session.dynamics())
     throw UsageError("--smooth: smoothing estimates the force, which needs dynamics mode (rotor0/ or thrust0/; "
                      "not --mode imu)");
@@ -109,7 +109,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   po.capacity = 1024;  // IMU / rotor / truth rows between the frames ahead
   po.background_nice = 5;  // short of cores, frontend + estimator run first (per-frame times)
   // 16-bit images: one scale per camera for the whole run, from samples of the stream.
-  const CameraDepths depths = source == system::FeatureSource::kImages
+  const CameraDepths depths = source == FeatureSource::kImages
                                   ? camera_bit_depths(reader.mav0(), session.params().config.frontend.image_bit_depth)
                                   : CameraDepths{};
   po.image_bits = {depths.bits(0), depths.bits(1)};
@@ -195,7 +195,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   const double data_s = ns_to_s(t_last_used - t_first_used);
   nlohmann::json s = session.summary();
   s["dataset"] = fs::absolute(opt.dataset).string();
-  if (source == system::FeatureSource::kImages)
+  if (source == FeatureSource::kImages)
     for (int cam = 0; cam < 2; ++cam)
       s["image_bit_depth"]["cam" + std::to_string(cam)] = {{"bits", depths.cams[cam].bits}, {"how", depths.cams[cam].how}};
   if (error) {
@@ -216,7 +216,7 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   s["real_time_factor"] = wall_s > 0.0 ? data_s / wall_s : 0.0;
   const double cpu_s = s["cpu"]["process_cpu_s"].get<double>();
   s["cpu"]["real_time_factor_cpu"] = cpu_s > 0.0 ? data_s / cpu_s : 0.0;
-  system::write_summary(opt.out_dir, s);
+  write_summary(opt.out_dir, s);
   for (const auto& w : s["noise_fit"]["warnings"]) spdlog::warn("noise fit: {}", w.get<std::string>());
   for (const auto& w : s["warnings"]) spdlog::warn("{}", w.get<std::string>());
   if (error) std::rethrow_exception(error);
@@ -236,4 +236,4 @@ RunResult run(const RunOptions& opt, const std::atomic<bool>& stop) {
   return honest_end(session, s);
 }
 
-}  // namespace vid::app
+}  // namespace vid::system

@@ -1,4 +1,4 @@
-#include "app/prefetch.h"
+#include "vid_system/prefetch.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -12,7 +12,7 @@
 
 #include "frontend/image_decode.h"
 
-namespace vid::app {
+namespace vid::system {
 
 namespace {
 
@@ -184,4 +184,4 @@ PrefetchStats Prefetcher::stats() const {
   return stats_;
 }
 
-}  // namespace vid::app
+}  // namespace vid::system

@@ -1,13 +1,13 @@
 /// @file image_depth.cpp
-/// @brief Camera bit depths from a few images of each stream (see app/image_depth.h).
-#include "app/image_depth.h"
+/// @brief Camera bit depths from a few images of each stream (see vid_system/image_depth.h).
+#include "vid_system/image_depth.h"
 
 #include <string>
 #include <vector>
 
 #include "io/csv_reader.h"
 
-namespace vid::app {
+namespace vid::system {
 
 namespace fs = std::filesystem;
 
@@ -48,4 +48,4 @@ CameraDepths camera_bit_depths(const fs::path& mav0, int configured) {
   return d;
 }
 
-}  // namespace vid::app
+}  // namespace vid::system

@@ -1,7 +1,8 @@
 #pragma once
 /// @file dataset_run.h
-/// @brief vid_run over a dataset folder: the reader (images decoded ahead) feeds a
-/// vid::system::System; progress, interruption and the dataset's fields of summary.json.
+/// @brief A run over a dataset folder, as vid_run and the Python bindings' run_dataset do it:
+/// the reader (images decoded ahead) feeds a System; progress, interruption and the dataset's
+/// fields of summary.json.
 
 #include <atomic>
 #include <filesystem>
@@ -11,9 +12,9 @@
 #include "vid_system/config.h"
 #include "vio_core/estimator_params.h"
 
-namespace vid::app {
+namespace vid::system {
 
-/// @brief The command-line options of vid_run.
+/// @brief The options of a dataset run (vid_run's command line).
 struct RunOptions {
   std::filesystem::path dataset;
   std::filesystem::path out_dir;
@@ -23,7 +24,7 @@ struct RunOptions {
   /// Fixed-lag smoothing with this lag [s] (estimator smoother_lag_s; default: the config's):
   /// force_smoothed.csv and trajectory_smoothed_tum.txt next to the causal outputs.
   std::optional<double> smooth_lag_s;
-  system::FeatureSource features = system::FeatureSource::kAuto;
+  FeatureSource features = FeatureSource::kAuto;
   double start_s = 0.0;                  ///< relative to the first measurement
   std::optional<double> end_s;           ///< none: to the end
   bool progress = true;
@@ -52,6 +53,6 @@ enum class RunResult { kOk = 0, kDiverged = 3, kNotInitialized = 4, kNoFrameUsed
 /// written, also when the run is interrupted or diverges.
 /// @param stop  set asynchronously (SIGINT) to end the run cleanly
 /// @throws io::DatasetError / io::ConfigError / std::runtime_error on bad input
-RunResult run(const RunOptions& options, const std::atomic<bool>& stop);
+RunResult run_dataset(const RunOptions& options, const std::atomic<bool>& stop);
 
-}  // namespace vid::app
+}  // namespace vid::system

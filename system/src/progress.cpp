@@ -1,4 +1,4 @@
-#include "app/progress.h"
+#include "vid_system/progress.h"
 
 #include <unistd.h>
 
@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-namespace vid::app {
+namespace vid::system {
 
 namespace {
 bool terminal_and_not_ci() {
@@ -56,4 +56,4 @@ void ProgressBar::draw(double done, const std::string& extra) {
   std::fflush(stderr);
 }
 
-}  // namespace vid::app
+}  // namespace vid::system

@@ -20,7 +20,7 @@
 
 #include "io/dataset_reader.h"
 
-namespace vid::app {
+namespace vid::system {
 
 /// @brief One measurement; for an ImageFrame its cam 0 / cam 1 images decoded to 8-bit mono.
 struct Prefetched {
@@ -47,7 +47,7 @@ struct PrefetchOptions {
   /// does not stretch the consumer's per-frame wall time.
   int background_nice = 0;
   /// Significant bits of each camera's 16-bit images (vid::decode_gray8), index cam_id 0 / 1;
-  /// fixed for the run (see app/image_depth.h).
+  /// fixed for the run (see vid_system/image_depth.h).
   std::array<int, 2> image_bits{16, 16};
 };
 
@@ -108,4 +108,4 @@ class Prefetcher {
   std::vector<std::thread> threads_;
 };
 
-}  // namespace vid::app
+}  // namespace vid::system

@@ -1,12 +1,12 @@
-#include "app/data_window.h"
+#include "vid_system/data_window.h"
 
 #include <algorithm>
 #include <fstream>
 #include <string>
 
-#include "app/cli.h"
+#include "vid_system/usage_error.h"
 
-namespace vid::app {
+namespace vid::system {
 
 namespace fs = std::filesystem;
 
@@ -43,4 +43,4 @@ void check_dataset_window(const fs::path& dataset, const io::ReaderOptions& opti
   check_window(start_s, end_s, data_span_s(dataset, options), dataset.string());
 }
 
-}  // namespace vid::app
+}  // namespace vid::system

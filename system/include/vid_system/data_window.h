@@ -8,7 +8,7 @@
 
 #include "io/dataset_reader.h"
 
-namespace vid::app {
+namespace vid::system {
 
 /// @brief Timestamp of the last row of a CSV (read from its tail); nullopt when unreadable.
 std::optional<TimeNs> last_timestamp(const std::filesystem::path& csv);
@@ -17,9 +17,9 @@ std::optional<TimeNs> last_timestamp(const std::filesystem::path& csv);
 /// imu0 row (the times that --start/--end count from).
 double data_span_s(const std::filesystem::path& dataset, const io::ReaderOptions& options);
 
-/// @brief Throw vid::app::UsageError (exit 2) stating the data's span when [start_s, end_s]
-/// is negative, empty or outside the dataset (vid::app::check_window).
+/// @brief Throw vid::system::UsageError (exit 2) stating the data's span when [start_s, end_s]
+/// is negative, empty or outside the dataset (vid::system::check_window).
 void check_dataset_window(const std::filesystem::path& dataset, const io::ReaderOptions& options, double start_s,
                           std::optional<double> end_s);
 
-}  // namespace vid::app
+}  // namespace vid::system
