@@ -21,7 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RunOptions {
-  std::string data, out, methods = "ekf,ukf,msckf,swls";
+  std::string data, out, methods = "ekf,ukf,msckf,swls,vio";
   int runs_per_case = 10, threads = 2, train_runs_per_case = 2, hidden_nodes = 500;
   std::uint64_t selection_seed = 1;
 };
@@ -94,7 +94,7 @@ void add_run_report_commands(CLI::App& cli, int* exit_code) {
   run->add_option("--data", ro->data, "study dataset folder (vid_massid generate)")->required()->check(CLI::ExistingDirectory);
   run->add_option("--out", ro->out, "output folder")->required();
   run->add_option("--methods", ro->methods,
-                  "comma-separated methods: ekf,ukf,msckf,swls,elm,relm,oselm")
+                  "comma-separated methods: ekf,ukf,msckf,swls,vio,elm,relm,oselm")
       ->capture_default_str();
   run->add_option("--runs-per-case", ro->runs_per_case, "evaluated runs per trajectory x profile")->capture_default_str();
   run->add_option("--threads", ro->threads, "worker threads")->capture_default_str();

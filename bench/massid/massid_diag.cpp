@@ -1,15 +1,18 @@
 /// @file massid_diag.cpp
 /// @brief Diagnostic (not a test): simulate runs with the study generator and print RMSPE and
 /// mean update time per model-based method.
-/// Usage: massid_diag [trajectory] [profile] [runs] [key=value ...] (ModelBasedTuning fields)
+/// Usage: massid_diag [trajectory] [profile] [runs] [key=value ...] (ModelBasedTuning fields;
+/// vio_* keys: the "vio" method's EstimatorParams, e.g. vio_force_rw=0.02)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "massid/filters/estimators.h"
 #include "massid/filters/study_runner.h"
+#include "massid/filters/vio_filter.h"
 #include "massid/gen/run_simulator.h"
 
 int main(int argc, char** argv) {
@@ -19,6 +22,7 @@ int main(int argc, char** argv) {
   const int runs = argc > 3 ? std::stoi(argv[3]) : 3;
   gen::GeneratorSettings s;
   ModelBasedTuning tune;
+  vid::EstimatorParams vio = vio_params_for_study();
   for (int a = 4; a < argc; ++a) {
     const std::string kv = argv[a];
     const auto eq = kv.find('=');
@@ -39,15 +43,20 @@ int main(int argc, char** argv) {
     else if (k == "msckf_window") tune.msckf_window = static_cast<int>(v);
     else if (k == "swls_window") tune.swls_window = static_cast<int>(v);
     else if (k == "swls_iter") tune.swls_max_iterations = static_cast<int>(v);
+    else if (k == "vio_force_rw") vio.force_random_walk = v;
+    else if (k == "vio_scale_rw") vio.thrust_scale_random_walk = v;
+    else if (k == "vio_world_force") vio.force_frame = v > 0 ? vid::ForceFrame::kWorld : vid::ForceFrame::kBody;
+    else if (k == "vio_thrust_noise") vio.thrust_noise_density = v;
     else { std::fprintf(stderr, "unknown key %s\n", k.c_str()); return 1; }
   }
-  double sum[4] = {0, 0, 0, 0}, sum_ms[4] = {0, 0, 0, 0};
+  const std::vector<std::string> methods = model_based_methods();
+  std::vector<double> sum(methods.size(), 0.0), sum_ms(methods.size(), 0.0);
   for (int i = 0; i < runs; ++i) {
     const MassIdRun run = gen::simulate_run(s, traj, prof, i, gen::run_seed(s.seed, traj, prof, i)).run;
     std::vector<std::unique_ptr<MassEstimator>> est;
     std::vector<MassEstimator*> raw;
-    for (const std::string& m : model_based_methods()) {
-      est.push_back(make_model_based_estimator(m, tune));
+    for (const std::string& m : methods) {
+      est.push_back(m == "vio" ? make_vio_estimator(vio, tune) : make_model_based_estimator(m, tune));
       raw.push_back(est.back().get());
     }
     const RunResult r = evaluate_run(run, raw);
@@ -65,7 +74,7 @@ int main(int argc, char** argv) {
     std::printf("\n");
   }
   std::printf("MEAN %s/%s:", traj.c_str(), prof.c_str());
-  for (int j = 0; j < 4; ++j) std::printf("  %s %.2f%% %.4fms", model_based_methods()[j].c_str(), sum[j] / runs, sum_ms[j] / runs);
+  for (std::size_t j = 0; j < methods.size(); ++j) std::printf("  %s %.2f%% %.4fms", methods[j].c_str(), sum[j] / runs, sum_ms[j] / runs);
   std::printf("\n");
   return 0;
 }

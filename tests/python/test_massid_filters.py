@@ -8,7 +8,7 @@ import subprocess
 import pytest
 from plot_checks import assert_plot
 
-METHODS = ["ekf", "ukf", "msckf", "swls"]
+METHODS = ["ekf", "ukf", "msckf", "swls", "vio"]
 
 
 @pytest.fixture(scope="module")

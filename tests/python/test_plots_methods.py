@@ -75,13 +75,13 @@ def test_filter_grid_shows_every_filter(tmp_path):
         d.mkdir(parents=True)
         base = truth + 0.002 * rng.standard_normal(len(t))
         cols = {"t": t, "mass_true": truth, "thrust_cmd": 12 + 0 * t, "wx": 0 * t, "wy": 0 * t, "wz": 0 * t,
-                "ekf": base, "ukf": base + 1e-5, "msckf": base - 1e-5, "swls": base}
+                "ekf": base, "ukf": base + 1e-5, "msckf": base - 1e-5, "swls": base, "vio": base + 2e-5}
         with open(d / "run_000.csv", "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(cols)
             w.writerows(np.column_stack(list(cols.values())))
     fig = massid_plots.trajectory_figure("loop", massid_plots.find_runs(tmp_path))
-    assert len(fig.axes) == 2 * 4
+    assert len(fig.axes) == 2 * 5
     assert hidden_curves(fig) == []
 
 

@@ -31,7 +31,7 @@ NEES_KEYS = {"tests", "memory_mb"}
 ESTIMATOR_KEYS = {"name", "mode", "peer", "config"}
 TRAJECTORIES = ["random", "loop", "lemniscate", "zigzag", "square"]
 PROFILES = ["constant", "linear_decrease", "step_drop", "step_pickup", "up_down"]
-FILTERS = ["ekf", "ukf", "msckf", "swls"]
+FILTERS = ["ekf", "ukf", "msckf", "swls", "vio"]
 DATA_DRIVEN = ["elm", "relm", "oselm"]
 
 

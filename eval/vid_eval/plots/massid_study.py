@@ -26,7 +26,7 @@ from .methods import CaseSeries, methods_grid, ordered  # noqa: E402
 
 PROFILE_ORDER = ["constant", "linear_decrease", "step_drop", "step_pickup", "up_down"]
 TRAJ_ORDER = ["random", "loop", "lemniscate", "zigzag", "square"]
-METHOD_ORDER = ["ekf", "ukf", "msckf", "swls"]  # the first is the reference the others are compared to
+METHOD_ORDER = ["ekf", "ukf", "msckf", "swls", "vio"]  # the first is the reference the others are compared to
 NOT_METHODS = ("t", "mass_true", "thrust_cmd", "wx", "wy", "wz")
 GRAVITY = 9.81
 

@@ -16,7 +16,7 @@ import numpy as np
 from .style import GT_COLOR, new_figure
 
 METHOD_COLORS = {"ekf": "tab:blue", "ukf": "tab:orange", "msckf": "tab:green", "swls": "tab:red",
-                 "elm": "tab:brown", "relm": "tab:purple", "oselm": "tab:olive"}
+                 "vio": "tab:pink", "elm": "tab:brown", "relm": "tab:purple", "oselm": "tab:olive"}
 
 
 @dataclass

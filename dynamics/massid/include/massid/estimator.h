@@ -16,7 +16,7 @@ namespace vid::massid {
 class MassEstimator {
  public:
   virtual ~MassEstimator() = default;
-  /// @brief Method name as used on the command line ("ekf", "ukf", "msckf", "swls", "elm", ...).
+  /// @brief Method name as used on the command line ("ekf", "ukf", "msckf", "swls", "vio", "elm", ...).
   virtual std::string name() const = 0;
   /// @brief Start a run: initial state from the first sample, mass from info.initial_mass_guess.
   virtual void reset(const RunInfo& info, const MassIdSample& first) = 0;

@@ -14,6 +14,7 @@
 #include "massid/filters/msckf.h"
 #include "massid/filters/swls.h"
 #include "massid/filters/ukf.h"
+#include "massid/filters/vio_filter.h"
 
 namespace vid::massid {
 namespace {
@@ -127,7 +128,7 @@ class MsckfEstimator final : public FilterAdapter<WindowMsckf> {
 
 }  // namespace
 
-std::vector<std::string> model_based_methods() { return {"ekf", "ukf", "msckf", "swls"}; }
+std::vector<std::string> model_based_methods() { return {"ekf", "ukf", "msckf", "swls", "vio"}; }
 
 std::unique_ptr<MassEstimator> make_model_based_estimator(const std::string& method,
                                                           const ModelBasedTuning& tuning) {
@@ -135,8 +136,9 @@ std::unique_ptr<MassEstimator> make_model_based_estimator(const std::string& met
   if (method == "ukf") return std::make_unique<UkfEstimator>(tuning);
   if (method == "msckf") return std::make_unique<MsckfEstimator>(tuning);
   if (method == "swls") return make_swls_estimator(tuning);
+  if (method == "vio") return make_vio_estimator(vio_params_for_study(), tuning);
   throw std::invalid_argument("unknown model-based method '" + method +
-                              "' (expected ekf, ukf, msckf or swls)");
+                              "' (expected ekf, ukf, msckf, swls or vio)");
 }
 
 }  // namespace vid::massid

@@ -41,7 +41,7 @@ constexpr double kSeedRmspeMax = 2.4;  // upper end of the seed's loop RMSPE ran
 
 const std::vector<std::string> kProfileOrder = {"constant", "linear_decrease", "step_drop",
                                                 "step_pickup", "up_down"};
-const std::vector<std::string> kMethodOrder = {"ekf", "ukf", "msckf", "swls", "elm", "relm", "oselm"};
+const std::vector<std::string> kMethodOrder = {"ekf", "ukf", "msckf", "swls", "vio", "elm", "relm", "oselm"};
 
 template <class T>
 std::vector<std::string> ordered(const std::set<std::string>& present, const std::vector<std::string>& order) {

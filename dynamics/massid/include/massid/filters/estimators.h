@@ -1,7 +1,7 @@
 #pragma once
 /// @file estimators.h
-/// @brief The model-based methods of the study ("ekf", "ukf", "msckf", "swls") as
-/// MassEstimator adapters over the filters of this folder.
+/// @brief The model-based methods of the study ("ekf", "ukf", "msckf", "swls", and "vio": the
+/// VIO's estimator core, vio_filter.h) as MassEstimator adapters over the filters of this folder.
 
 #include <memory>
 #include <string>

@@ -17,7 +17,7 @@ namespace vid::massid {
 
 /// @brief Settings of a study run.
 struct StudyRunOptions {
-  std::vector<std::string> methods = {"ekf", "ukf", "msckf", "swls"};
+  std::vector<std::string> methods = {"ekf", "ukf", "msckf", "swls", "vio"};
   int runs_per_case = 10;           ///< evaluated runs per trajectory x profile (seed: 10)
   int threads = 2;
   std::uint64_t selection_seed = 1; ///< which runs are picked (fixed -> reproducible)
