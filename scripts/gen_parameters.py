@@ -99,7 +99,26 @@ def loader_keys(sources: List[Path]) -> tuple[set, Dict[str, str]]:
     return keys, spell
 
 
+# The shared types' header: a default may name its one definition there (ImuNoise{}.x, kDefaultGravity).
+CALIBRATION = "types/include/types/calibration.h"
+
+
+def shared_defaults() -> Dict[str, str]:
+    """``ImuNoise{}.gyro_noise_density -> 1.0e-3``, ``kDefaultGravity -> 9.81``, ... from the
+    shared types' header, so the table shows the value an estimator default refers to."""
+    header = ROOT / CALIBRATION
+    out = {name: value for name, value in
+           re.findall(r"inline constexpr double (k\w+) = ([^;]+);", header.read_text())}
+    for struct in ("ImuNoise", "VehicleParams"):
+        for m in parse_struct(header, struct):
+            out[f"{struct}{{}}.{m.key}"] = out.get(m.default, m.default)
+    return out
+
+
 def yaml_default(member: Member, spell: Dict[str, str]) -> str:
+    shared = shared_defaults()
+    if member.default in shared:
+        return shared[member.default]
     if "::" in member.default:
         if member.default not in spell:
             raise GenError(f"no YAML spelling of {member.default} in the loader")

@@ -245,7 +245,7 @@ void parse_sensors(const io::YamlMap& root, Scenario* s) {
   {
     const io::YamlMap i = root.get_map_or_empty("imu");
     ImuNoise& n = s->imu.noise;
-    n.rate_hz = i.get_double("rate_hz", 400.0);
+    n.rate_hz = i.get_double("rate_hz", n.rate_hz);
     n.gyro_noise_density = i.get_double("gyroscope_noise_density", n.gyro_noise_density);
     n.gyro_random_walk = i.get_double("gyroscope_random_walk", n.gyro_random_walk);
     n.accel_noise_density = i.get_double("accelerometer_noise_density", n.accel_noise_density);

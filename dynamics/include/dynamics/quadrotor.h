@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "types/calibration.h"
+
 namespace vid::dynamics {
 
 /// @brief One rotor: where it is, how it spins and its coefficients.
@@ -32,7 +34,7 @@ struct QuadrotorParams {
   double rotor_speed_max = 1e9;         ///< [unit]
   /// Linear rotor drag: F_drag_I = -diag(linear_drag) * v_I [N / (m/s)] (zero = off).
   Eigen::Vector3d linear_drag = Eigen::Vector3d::Zero();
-  double gravity = 9.81;                ///< magnitude; g_W = [0, 0, -gravity]
+  double gravity = kDefaultGravity;     ///< magnitude; g_W = [0, 0, -gravity]
   /// Unit direction of every rotor's thrust in I (a real thrust axis sits 1-2 deg off the
   /// IMU's z; the simulator's `sensor_faults.thrust_axis`). Default z_I.
   Eigen::Vector3d thrust_axis_I = Eigen::Vector3d::UnitZ();

@@ -10,6 +10,10 @@
 
 namespace vid {
 
+/// @brief The one default gravity magnitude [m/s^2] (g_W = [0, 0, -g]): every struct with a
+/// gravity field starts from it; a vehicle.yaml or study config gives the vehicle's own.
+inline constexpr double kDefaultGravity = 9.81;
+
 /// @brief Distortion models (Kalibr names: radtan, equidistant).
 enum class DistortionModel { kNone, kRadTan, kEquidistant };
 
@@ -27,13 +31,16 @@ struct CameraCalib {
   double rate_hz = 30.0;
 };
 
-/// @brief IMU noise, Kalibr/EuRoC continuous-time parameters.
+/// @brief IMU noise, Kalibr/EuRoC continuous-time parameters. The defaults are the one default
+/// of each quantity: the VID-Dataset-like IMU of config/sim/vid17_like.yaml (the accelerometer
+/// density includes rotor vibration, docs/notes/real-sensors.md); EstimatorParams starts from
+/// them, and the simulator's scenario reader uses them for a key it is not given.
 struct ImuNoise {
-  double gyro_noise_density = 1.6968e-4;      ///< rad/s/sqrt(Hz)
-  double gyro_random_walk = 1.9393e-5;        ///< rad/s^2/sqrt(Hz)
-  double accel_noise_density = 2.0e-3;        ///< m/s^2/sqrt(Hz)
-  double accel_random_walk = 3.0e-3;          ///< m/s^3/sqrt(Hz)
-  double rate_hz = 200.0;
+  double gyro_noise_density = 1.0e-3;      ///< rad/s/sqrt(Hz)
+  double gyro_random_walk = 3.5e-5;        ///< rad/s^2/sqrt(Hz)
+  double accel_noise_density = 0.1;        ///< m/s^2/sqrt(Hz)
+  double accel_random_walk = 4.0e-3;       ///< m/s^3/sqrt(Hz)
+  double rate_hz = 400.0;
   Eigen::Isometry3d T_BS = Eigen::Isometry3d::Identity();  ///< IMU in body (identity here)
 };
 
@@ -48,7 +55,7 @@ struct RotorSensor {
 /// @brief Vehicle parameters (vehicle.yaml).
 struct VehicleParams {
   double mass_kg = 1.0;
-  double gravity = 9.81;
+  double gravity = kDefaultGravity;  ///< [m/s^2]
   std::vector<double> rotor_thrust_coefficients;  ///< k_i [N / unit^2], T_i = k_i n_i^2
   /// Mass-normalized linear body drag D [1/s]: the rotors' drag F_I = -diag(D) v_I that the
   /// dynamics model predicts (docs/design.md §3 "Rotor drag"); zero = no drag model.

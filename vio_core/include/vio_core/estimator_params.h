@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "types/calibration.h"
+
 namespace vid {
 
 /// @brief What drives the propagation (docs/design.md §1).
@@ -46,14 +48,17 @@ struct EstimatorParams {
   PropagationMode mode = PropagationMode::kDynamics;  ///< what drives the propagation (without the key: dynamics when rotor speeds or thrust exist)
   int window_size = 11;         ///< number of stochastic clones kept (max clones)
   bool use_fej = true;          ///< first-estimates Jacobians for observability consistency
-  double gravity = 9.81;        ///< magnitude [m/s^2], g_W = [0, 0, -gravity]
+  /// magnitude [m/s^2], g_W = [0, 0, -gravity]; a preset's vehicle.yaml gives it (system/config.cpp)
+  double gravity = kDefaultGravity;
 
   // --- IMU noise (Kalibr/EuRoC continuous-time) ---
-  double gyro_noise_density = 1.0e-3;    ///< rad/s/sqrt(Hz)
-  double gyro_random_walk = 3.5e-5;      ///< rad/s^2/sqrt(Hz)
-  double accel_noise_density = 0.1;      ///< m/s^2/sqrt(Hz)
-  double accel_random_walk = 4.0e-3;     ///< m/s^3/sqrt(Hz)
-  double imu_rate_hz = 400.0;            ///< nominal rate, used to discretize the accel measurement noise
+  // A preset's or dataset's IMU calibration gives them (system/config.cpp); the defaults are the
+  // calibration's (types/calibration.h), one default per quantity.
+  double gyro_noise_density = ImuNoise{}.gyro_noise_density;    ///< rad/s/sqrt(Hz)
+  double gyro_random_walk = ImuNoise{}.gyro_random_walk;        ///< rad/s^2/sqrt(Hz)
+  double accel_noise_density = ImuNoise{}.accel_noise_density;  ///< m/s^2/sqrt(Hz)
+  double accel_random_walk = ImuNoise{}.accel_random_walk;      ///< m/s^3/sqrt(Hz)
+  double imu_rate_hz = ImuNoise{}.rate_hz;  ///< nominal rate, used to discretize the accel measurement noise
 
   // --- dynamics model ---
   double thrust_noise_density = 0.05;    ///< mass-normalized thrust noise [m/s^2/sqrt(Hz)]

@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "types/calibration.h"
+
 namespace vid::massid {
 
 /// @brief One sample of a run (a row of the CSV).
@@ -37,7 +39,7 @@ struct RunInfo {
   std::string mass_profile;   ///< constant | linear_decrease | step_drop | step_pickup | up_down
   int index = 0;              ///< run number within trajectory x profile
   std::uint64_t seed = 0;
-  double gravity = 9.81;      ///< magnitude [m/s^2], g_W = [0, 0, -gravity]
+  double gravity = kDefaultGravity;  ///< magnitude [m/s^2], g_W = [0, 0, -gravity]
   double initial_mass_guess = 0.0;  ///< the wrong nominal mass the controller and methods start from [kg]
   double sigma_q = 0.0;       ///< measurement noise of q (rad, per axis, local perturbation)
   double sigma_p = 0.0;       ///< measurement noise of p [m]

@@ -66,7 +66,7 @@ class FeatureExtractor {
   };
   FeatureConfig config_;
   bool partial_ = false;
-  double gravity_ = 9.81;
+  double gravity_ = kDefaultGravity;
   std::deque<Entry> history_;
   MassIdSample last_;  ///< previous sample (its commands act over the last interval)
 };

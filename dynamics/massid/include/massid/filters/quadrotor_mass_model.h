@@ -69,7 +69,7 @@ class QuadrotorMassModel {
   using StateMat = Eigen::Matrix<double, kStateDim, kStateDim>;
   using MeasJac = Eigen::Matrix<double, kMeasDim, kStateDim>;
 
-  explicit QuadrotorMassModel(double gravity = 9.81) : gravity_(gravity) {}
+  explicit QuadrotorMassModel(double gravity = kDefaultGravity) : gravity_(gravity) {}
   double gravity() const { return gravity_; }
   Eigen::Vector3d g_W() const { return Eigen::Vector3d(0.0, 0.0, -gravity_); }
 

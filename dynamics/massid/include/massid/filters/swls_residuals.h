@@ -62,7 +62,7 @@ struct SwlsPreintegration {
 /// @brief Whitened dynamic residual between consecutive window states (10 residuals).
 struct SwlsDynamicResidual {
   SwlsPreintegration pre;
-  double gravity = 9.81;
+  double gravity = kDefaultGravity;
   Eigen::Matrix<double, 9, 9> sqrt_info = Eigen::Matrix<double, 9, 9>::Identity();
   double sqrt_info_m = 1.0;
 

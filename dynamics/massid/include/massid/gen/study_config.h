@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "types/calibration.h"
+
 namespace vid::massid::gen {
 
 /// @brief Sizes and timing of the reference trajectories (see reference_trajectory.h).
@@ -72,7 +74,7 @@ struct GeneratorSettings {
   double rate_hz = 100.0;           ///< sample (and control) rate
   double duration_s = 25.0;
   int integration_substeps = 2;     ///< RK4 steps per sample interval
-  double gravity = 9.81;
+  double gravity = kDefaultGravity;
   double mass_min_kg = 0.8;         ///< per-run base mass, uniform in [min, max]
   double mass_max_kg = 1.6;
   double initial_mass_factor = 1.2; ///< controller/methods believe m0 = factor * m_true(0)
