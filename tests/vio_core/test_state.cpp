@@ -1,5 +1,5 @@
-// State/covariance bookkeeping: clone augmentation and marginalization, calibration
-// variables, corrections, generic and accelerometer EKF updates vs the dense textbook formula.
+// State/covariance bookkeeping: clone augmentation and marginalization, the time-offset
+// variable, corrections, generic and accelerometer EKF updates vs the dense textbook formula.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -81,9 +81,6 @@ TEST(FilterState, CloneAtAnUncertainTimeCarriesTheTimeOffset) {
   dx(18) = 0.001;
   s.apply_correction(dx);
   EXPECT_DOUBLE_EQ(s.time_offset()->t_d_s, 0.005);
-  // A calibration pose added later goes before it.
-  s.add_calib_pose("T_IC0", Eigen::Quaterniond::Identity(), Vector3d::Zero(), 0.01, 0.01);
-  EXPECT_EQ(s.time_offset()->cov_index, 24);
   s.initialize(2000, s.imu(), random_spd(s.imu_dim(), 5));
   EXPECT_FALSE(s.time_offset().has_value());
 }
@@ -109,25 +106,6 @@ TEST(FilterState, MarginalizationDropsOldestCloneAndReindexes) {
   for (std::size_t i = 0; i < keep.size(); ++i)
     for (std::size_t j = 0; j < keep.size(); ++j)
       EXPECT_EQ(s.P()(i, j), P_before(keep[i], keep[j]));
-}
-
-TEST(FilterState, CalibPoseInsertedAfterImuShiftsClones) {
-  FilterState s = make_state(true);
-  s.augment_clone();
-  const MatrixXd Pc = s.P().block(18, 18, 6, 6);
-  const int k = s.add_calib_pose("T_IC0", Eigen::Quaterniond::Identity(), Vector3d(0.1, 0, 0), 0.01,
-                                 0.02);
-  EXPECT_EQ(s.calib_poses()[k].cov_index, 18);
-  EXPECT_EQ(s.clones()[0].cov_index, 24);
-  EXPECT_LT((s.P().block(24, 24, 6, 6) - Pc).norm(), 1e-15);
-  EXPECT_NEAR(s.P()(18, 18), 1e-4, 1e-15);
-  EXPECT_NEAR(s.P()(21, 21), 4e-4, 1e-15);
-  EXPECT_EQ(s.P().block(18, 0, 6, 18).norm(), 0.0);
-  // correction reaches the calibration variable
-  VectorXd dx = VectorXd::Zero(s.dim());
-  dx(21) = 0.5;
-  s.apply_correction(dx);
-  EXPECT_NEAR(s.calib_poses()[k].T.p.x(), 0.6, 1e-15);
 }
 
 TEST(FilterState, HealthDetectsNonPdAndNaN) {

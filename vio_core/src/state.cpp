@@ -58,7 +58,6 @@ void FilterState::initialize(TimeNs t_ns, const ImuState& imu, const Eigen::Matr
   if (!layout_.force) imu_.F_ext.setZero();
   if (!layout_.force_rate) imu_.F_dot.setZero();
   if (!layout_.thrust_scale) imu_.thrust_scale = 1.0;
-  calib_.clear();
   time_offset_.reset();
   clones_.clear();
   force_clones_.clear();
@@ -117,9 +116,6 @@ void FilterState::marginalize_oldest_force_clone() {
 
 void FilterState::remove_block(int idx, int k) {
   covariance::remove(P_, idx, k);
-  for (CalibPose& c : calib_) {
-    if (c.cov_index > idx) c.cov_index -= k;
-  }
   if (time_offset_ && time_offset_->cov_index > idx) time_offset_->cov_index -= k;
   for (CloneState& c : clones_) {
     if (c.cov_index > idx) c.cov_index -= k;
@@ -129,29 +125,9 @@ void FilterState::remove_block(int idx, int k) {
   }
 }
 
-int FilterState::add_calib_pose(const std::string& name, const Eigen::Quaterniond& q,
-                                const Eigen::Vector3d& p, double sigma_rot, double sigma_pos) {
-  int at = imu_dim();
-  for (const CalibPose& c : calib_) at = std::max(at, c.cov_index + 6);
-  Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(6, 6);
-  cov.topLeftCorner<3, 3>().diagonal().setConstant(sigma_rot * sigma_rot);
-  cov.bottomRightCorner<3, 3>().diagonal().setConstant(sigma_pos * sigma_pos);
-  covariance::insert(P_, at, cov);
-  if (time_offset_) time_offset_->cov_index += 6;
-  for (CloneState& c : clones_) c.cov_index += 6;
-  for (ForceClone& c : force_clones_) c.cov_index += 6;
-  CalibPose cp;
-  cp.name = name;
-  cp.T = {so3::normalized(q), p};
-  cp.cov_index = at;
-  calib_.push_back(cp);
-  return static_cast<int>(calib_.size()) - 1;
-}
-
 void FilterState::add_time_offset(double t_d_s, double sigma_s) {
   if (time_offset_) throw std::logic_error("FilterState::add_time_offset: already there");
-  int at = imu_dim();
-  for (const CalibPose& c : calib_) at = std::max(at, c.cov_index + 6);
+  const int at = imu_dim();
   covariance::insert(P_, at, Eigen::MatrixXd::Constant(1, 1, sigma_s * sigma_s));
   for (CloneState& c : clones_) c.cov_index += 1;
   for (ForceClone& c : force_clones_) c.cov_index += 1;
@@ -176,10 +152,6 @@ void FilterState::apply_correction(const Eigen::VectorXd& dx) {
   if (layout_.force) imu_.F_ext += dx.segment<3>(imu_idx::kF);
   if (layout_.force_rate) imu_.F_dot += dx.segment<3>(imu_idx::kFdot);
   if (layout_.thrust_scale) imu_.thrust_scale += dx(layout_.thrust_scale_index());
-  for (CalibPose& c : calib_) {
-    c.T.q = so3::boxplus(c.T.q, dx.segment<3>(c.cov_index));
-    c.T.p += dx.segment<3>(c.cov_index + 3);
-  }
   if (time_offset_) time_offset_->t_d_s += dx(time_offset_->cov_index);
   for (CloneState& c : clones_) {
     c.T_WI.q = so3::boxplus(c.T_WI.q, dx.segment<3>(c.cov_index));

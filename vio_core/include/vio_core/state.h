@@ -1,7 +1,7 @@
 #pragma once
 /// @file state.h
 /// @brief Filter state and covariance bookkeeping: typed variables that know their column in
-/// the error-state covariance P (IMU block, optional calibration poses, stochastic clones),
+/// the error-state covariance P (IMU block, optional time offset, stochastic clones, force clones),
 /// clone augmentation, marginalization, error-state correction, and health checks.
 ///
 /// Error-state layout of the IMU block (right perturbation on orientation, docs/design.md §3):
@@ -9,7 +9,7 @@
 /// state's force frame, EstimatorParams::force_frame), then optionally dF_ext/dt(3) in the same
 /// frame (EstimatorParams::force_rate_random_walk > 0), then optionally the thrust scale ds(1)
 /// (EstimatorParams::thrust_scale_random_walk > 0; ImuLayout says where each sits).
-/// Calibration variables (poses, then the time offset) follow the IMU block; pose clones and force clones (each oldest
+/// The time offset t_d (when estimated) follows the IMU block; pose clones and force clones (each oldest
 /// first, interleaved in the order they were taken) follow those.
 
 #include <Eigen/Core>
@@ -103,13 +103,6 @@ struct ForceClone {
   int cov_index = -1;  ///< column of dF_ext in P
 };
 
-/// @brief A calibration pose (e.g. camera extrinsic T_IC) estimated in the filter.
-struct CalibPose {
-  std::string name;  ///< names the frames, e.g. "T_IC0"
-  Pose T;
-  int cov_index = -1;  ///< column of [dtheta, dp] in P
-};
-
 /// @brief The camera-IMU time offset t_d (t_imu = t_cam + t_d), estimated in the filter.
 struct TimeOffsetState {
   double t_d_s = 0.0;  ///< [s]
@@ -130,7 +123,8 @@ struct CloneTiming {
   double jitter_s = 0.0;  ///< 1-sigma timestamp noise of this frame, independent per frame
 };
 
-/// @brief IMU block + calibration + clones with one joint covariance.
+/// @brief IMU block + time offset + clones with one joint covariance. The camera extrinsics are
+/// fixed (the calibration's); only t_d of the calibration can be estimated.
 class FilterState {
  public:
   /// @brief The layout the estimator settings ask for: F_ext in dynamics mode, in
@@ -144,7 +138,7 @@ class FilterState {
   /// @param with_thrust_scale adds the thrust scale s last (needs with_force)
   FilterState(bool with_force, ForceFrame force_frame, bool with_force_rate, bool with_thrust_scale = false);
 
-  /// @brief Reset to one IMU block with the given mean and covariance (no clones, no calib).
+  /// @brief Reset to one IMU block with the given mean and covariance (no clones, no time offset).
   void initialize(TimeNs t_ns, const ImuState& imu, const Eigen::MatrixXd& P_imu);
 
   bool with_force() const { return layout_.force; }
@@ -171,7 +165,6 @@ class FilterState {
   void reset_imu_fej();
 
   const std::deque<CloneState>& clones() const { return clones_; }
-  const std::vector<CalibPose>& calib_poses() const { return calib_; }
   const std::deque<ForceClone>& force_clones() const { return force_clones_; }
 
   Eigen::MatrixXd& P() { return P_; }
@@ -194,13 +187,8 @@ class FilterState {
   /// @brief Remove the oldest force clone (marginalize: drop its rows/cols). No-op without one.
   void marginalize_oldest_force_clone();
 
-  /// @brief Add a calibration pose variable right after the IMU block (indices of later
-  /// variables shift). Returns its index in calib_poses().
-  int add_calib_pose(const std::string& name, const Eigen::Quaterniond& q, const Eigen::Vector3d& p,
-                     double sigma_rot, double sigma_pos);
-
   /// @brief Add the time-offset variable t_d with standard deviation @p sigma_s, right after the
-  /// IMU block and calibration poses (indices of later variables shift).
+  /// IMU block (indices of later variables shift).
   void add_time_offset(double t_d_s, double sigma_s);
   const std::optional<TimeOffsetState>& time_offset() const { return time_offset_; }
   /// @brief t_d: the estimate with the state, else @p fixed_s (the calibration's).
@@ -226,7 +214,6 @@ class FilterState {
   TimeNs t_ns_ = 0;
   ImuState imu_;
   ImuFej imu_fej_;
-  std::vector<CalibPose> calib_;
   std::optional<TimeOffsetState> time_offset_;
   std::deque<CloneState> clones_;
   std::deque<ForceClone> force_clones_;
