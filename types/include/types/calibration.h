@@ -32,9 +32,8 @@ struct CameraCalib {
 };
 
 /// @brief IMU noise, Kalibr/EuRoC continuous-time parameters. The defaults are the one default
-/// of each quantity: the VID-Dataset-like IMU of config/sim/vid17_like.yaml (the accelerometer
-/// density includes rotor vibration, docs/notes/real-sensors.md); EstimatorParams starts from
-/// them, and the simulator's scenario reader uses them for a key it is not given.
+/// of each quantity: the VID-Dataset-like IMU of config/sim/vid17_like.yaml. EstimatorParams
+/// starts from them, and the simulator's scenario reader uses them for a key it is not given.
 struct ImuNoise {
   double gyro_noise_density = 1.0e-3;      ///< rad/s/sqrt(Hz)
   double gyro_random_walk = 3.5e-5;        ///< rad/s^2/sqrt(Hz)
