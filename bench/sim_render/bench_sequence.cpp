@@ -5,8 +5,8 @@
 // Run with --benchmark_repetitions=3 --benchmark_report_aggregates_only=true.
 #include <benchmark/benchmark.h>
 
+#include <cstdint>
 #include <filesystem>
-#include <optional>
 #include <string>
 #include <unistd.h>
 
