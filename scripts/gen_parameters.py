@@ -13,6 +13,7 @@ tests/python/test_parameters_doc.py runs --check.
 from __future__ import annotations
 
 import argparse
+import functools
 import re
 import sys
 from dataclasses import dataclass
@@ -103,6 +104,7 @@ def loader_keys(sources: List[Path]) -> tuple[set, Dict[str, str]]:
 CALIBRATION = "types/include/types/calibration.h"
 
 
+@functools.lru_cache(maxsize=None)
 def shared_defaults() -> Dict[str, str]:
     """``ImuNoise{}.gyro_noise_density -> 1.0e-3``, ``kDefaultGravity -> 9.81``, ... from the
     shared types' header, so the table shows the value an estimator default refers to."""
