@@ -54,7 +54,7 @@ void BM_AccelUpdate(benchmark::State& st) {
 }
 BENCHMARK(BM_AccelUpdate)->Args({11, 1})->Args({11, 0})->Args({0, 1});
 
-// The force-jump detector's per-sample work as the pipeline does it after every accelerometer
+// The force-jump detector's per-sample work as the estimator does it after every accelerometer
 // update: push one innovation and test every window of a full 64-sample buffer (white
 // innovations: no detection, the common case). Arg 1: with a vibration excess on every sample
 // (the coloured sums of docs/model.md eq. (22)).

@@ -1,6 +1,6 @@
 // Cost of the in-flight initializer (vio_core/dynamic_initializer.h): one alignment of a full
 // 1 s window (16 of the 20 or 40 Hz stereo frames, up to 120 landmarks, 400 Hz IMU) on an analytic flight
-// through a room, as tests/vio_core/test_dynamic_init.cpp flies it. The pipeline tries one per
+// through a room, as tests/vio_core/test_dynamic_init.cpp flies it. The estimator tries one per
 // camera frame until one succeeds.
 #include <benchmark/benchmark.h>
 

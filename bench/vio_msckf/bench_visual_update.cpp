@@ -1,5 +1,5 @@
 /// Timing of the MSCKF visual update on the synthetic scene of the tests: BM_MsckfUpdate is the
-/// whole update as the pipeline applies it (target <= 1 ms for 40 features x 11 clones,
+/// whole update as the estimator applies it (target <= 1 ms for 40 features x 11 clones,
 /// stereo), BM_BuildVisualUpdate and the others its parts.
 /// Run: bench_vio_msckf --benchmark_repetitions=10 --benchmark_report_aggregates_only=true
 
@@ -91,7 +91,7 @@ BENCHMARK(BM_BuildVisualUpdate)
     ->Args({100, 11, 1, 0, 1})
     ->Unit(benchmark::kMicrosecond);
 
-/// Filter state of the pipeline (dynamics mode, default force model) whose clones are the
+/// Filter state of the estimator (dynamics mode, default force model) whose clones are the
 /// setup's clones, with a dense random covariance over all of it.
 vid::FilterState make_state(const Setup& s) {
   vid::FilterState st{vid::EstimatorParams{}};
@@ -112,8 +112,8 @@ vid::FilterState make_state(const Setup& s) {
   return st;
 }
 
-/// The whole MSCKF update as vid::Pipeline does it: clone poses from the state,
-/// build_visual_update with normal-equation compression (the pipeline default), then
+/// The whole MSCKF update as vid::Estimator does it: clone poses from the state,
+/// build_visual_update with normal-equation compression (the estimator default), then
 /// ekf_update with R = noise_var * I. The state copy per iteration is not timed.
 void BM_MsckfUpdate(benchmark::State& state) {
   Setup s = make_setup(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),

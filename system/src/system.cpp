@@ -1,16 +1,16 @@
 // The estimator system's data flow, top to bottom (system.h):
 //
-//   ImuSample ------------------------------> frontend (gyro prediction) + pipeline
-//   RotorSample / ThrustSample -------------> pipeline
+//   ImuSample ------------------------------> frontend (gyro prediction) + estimator
+//   RotorSample / ThrustSample -------------> estimator
 //   ImageFrame (paths) -> decode -+
-//   push_decoded (decoded ahead) -+-> image checks -> frontend (KLT) -> FeatureFrame -> pipeline
+//   push_decoded (decoded ahead) -+-> image checks -> frontend (KLT) -> FeatureFrame -> estimator
 //   StereoFrame (decoded) --------+
-//   FeatureFrame (feat0) -> undistortion ---------------------------------------> pipeline
-//   GroundTruthSample / ForceSample / MassSample -> metrics' truth series ----> pipeline
+//   FeatureFrame (feat0) -> undistortion ---------------------------------------> estimator
+//   GroundTruthSample / ForceSample / MassSample -> metrics' truth series ----> estimator
 //
-//   pipeline -> estimate -> state.csv / force.csv / trajectory_tum.txt, metrics' series, observer
-//            -> frame timings -> timing.csv, stage statistics, observer
-//            -> status changes -> observer
+//   estimator -> estimate -> state.csv / force.csv / trajectory_tum.txt, metrics' series, observer
+//             -> frame timings -> timing.csv, stage statistics, observer
+//             -> status changes -> observer
 //
 // summary.json's fields are assembled in system_summary.cpp.
 #include "vid_system/system.h"
@@ -57,7 +57,7 @@ EstimateRow to_row(const EstimateOutput& e) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
-// Construction: feat0 undistortion or the KLT frontend, the pipeline, the output files.
+// Construction: feat0 undistortion or the KLT frontend, the estimator, the output files.
 
 System::System(SystemParams params) : p_(std::move(params)), cpu_start_s_(process_cpu_s()) {
   if (p_.config.cameras.empty()) throw std::runtime_error("System: no camera calibration");
@@ -88,7 +88,7 @@ System::System(SystemParams params) : p_(std::move(params)), cpu_start_s_(proces
 System::~System() = default;
 
 void System::build_estimator() {
-  PipelineConfig pcfg;
+  EstimatorConfig pcfg;
   pcfg.params = p_.config.estimator;
   // After a divergence the vehicle is rarely at rest, and a smooth stretch of flight can pass the
   // IMU's still test (vid17_like did, 0.5 s after its divergence): a restart initializes as
@@ -96,18 +96,18 @@ void System::build_estimator() {
   if (restarts_ > 0 && pcfg.params.init_mode == InitMode::kStatic) pcfg.params.init_mode = InitMode::kAuto;
   pcfg.vehicle = p_.config.vehicle.value_or(VehicleParams{});
   pcfg.cameras = p_.config.cameras;
-  pipeline_ = std::make_unique<Pipeline>(pcfg);
-  pipeline_->set_estimate_callback([this](const EstimateOutput& e) { estimate_out(e); });
-  pipeline_->set_frame_callback([this](const FrameTimings& ft) { frame_out(ft); });
-  pipeline_->set_smoothed_callback([this](const EstimateOutput& e) { smoothed_out(e); });
-  pipeline_->set_init_window_callback([this](const std::vector<TimedPose>& w) { init_window_out(w); });
+  estimator_ = std::make_unique<Estimator>(pcfg);
+  estimator_->set_estimate_callback([this](const EstimateOutput& e) { estimate_out(e); });
+  estimator_->set_frame_callback([this](const FrameTimings& ft) { frame_out(ft); });
+  estimator_->set_smoothed_callback([this](const EstimateOutput& e) { smoothed_out(e); });
+  estimator_->set_init_window_callback([this](const std::vector<TimedPose>& w) { init_window_out(w); });
   if (p_.features != FeatureSource::kFeat0)
     frontend_ = std::make_unique<FrontendStage>(p_.config.frontend, p_.config.cameras);
-  last_status_ = pipeline_->status();
+  last_status_ = estimator_->status();
 }
 
 void System::restart() {
-  past_counters_.merge(pipeline_->counters());
+  past_counters_.merge(estimator_->counters());
   tracking_ms_.clear();
   ++restarts_;
   mark_next_estimate_ = mark_next_smoothed_ = true;  // the new piece's first estimates
@@ -115,7 +115,7 @@ void System::restart() {
 }
 
 void System::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu) {
-  pipeline_->initialize(t_ns, x, P_imu);
+  estimator_->initialize(t_ns, x, P_imu);
   report_status();
 }
 
@@ -128,31 +128,31 @@ void System::push(const Measurement& m) {
 
 void System::push(const ImuSample& s) {
   if (frontend_) frontend_->add_imu(s);
-  to_pipeline(s);
+  to_estimator(s);
 }
 
 void System::push(const RotorSample& s) {
-  if (!p_.ignore_rotor_speeds) to_pipeline(s);
+  if (!p_.ignore_rotor_speeds) to_estimator(s);
 }
-void System::push(const ThrustSample& s) { to_pipeline(s); }
+void System::push(const ThrustSample& s) { to_estimator(s); }
 
 void System::push(const GroundTruthSample& s) {
   gt_p_.t_ns.push_back(s.t_ns);
   gt_p_.v.push_back(s.T_WI.p);
   gt_R_WI_.push_back(s.T_WI.q.toRotationMatrix());
-  to_pipeline(s);
+  to_estimator(s);
 }
 
 void System::push(const ForceSample& s) {
   gt_f_W_.t_ns.push_back(s.t_ns);
   gt_f_W_.v.push_back(s.f_W_N);  // divided by the mass in summary()
-  to_pipeline(s);
+  to_estimator(s);
 }
 
 void System::push(const MassSample& s) {
   mass_t_.push_back(s.t_ns);
   mass_kg_.push_back(s.mass_kg);
-  to_pipeline(s);
+  to_estimator(s);
 }
 
 void System::push(const FeatureFrame& frame) {
@@ -162,7 +162,7 @@ void System::push(const FeatureFrame& frame) {
     if (o.has_norm || o.cam_id < 0 || o.cam_id >= static_cast<int>(models_.size())) continue;
     o.has_norm = models_[static_cast<std::size_t>(o.cam_id)]->undistort(o.uv, &o.uv_norm);
   }
-  to_pipeline(std::move(f));
+  to_estimator(std::move(f));
 }
 
 void System::push(const ImageFrame& frame) {
@@ -222,7 +222,7 @@ void System::push(const StereoFrame& frame) {
   if (ok && !frame.left.empty()) track(frame.t_ns, frame.left, frame.right);
 }
 
-// Frontend: KLT tracks of a checked frame become the pipeline's feature frame.
+// Frontend: KLT tracks of a checked frame become the estimator's feature frame.
 void System::track(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right) {
   if (!frontend_) return;
   const auto t_track = Clock::now();
@@ -232,25 +232,25 @@ void System::track(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right) {
   tracking_cpu_ms_.add(thread_cpu_ms() - cpu_track);
   if (tracks_)
     for (const auto& ob : ff.observations) tracks_->line(tracks_csv_row(ff.t_ns, ob));
-  to_pipeline(std::move(ff));
+  to_estimator(std::move(ff));
 }
 
-// Estimator: every measurement enters the pipeline here; status changes go to the observer.
-void System::to_pipeline(Measurement m) {
-  pipeline_->push(m);
+// Estimator: every measurement enters the estimator here; status changes go to the observer.
+void System::to_estimator(Measurement m) {
+  estimator_->push(m);
   report_status();
 }
 
 void System::finish() {
-  pipeline_->finish();
+  estimator_->finish();
   report_status();
 }
 
 void System::report_status() {
-  const FilterStatus now = pipeline_->status();
+  const FilterStatus now = estimator_->status();
   if (now == last_status_) return;
   last_status_ = now;
-  if (on_status_) on_status_(now, pipeline_->status_message());
+  if (on_status_) on_status_(now, estimator_->status_message());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -319,7 +319,7 @@ void System::smoothed_out(const EstimateOutput& e) {
 }
 
 void System::frame_out(const FrameTimings& ft) {
-  const bool starving = pipeline_->starving();
+  const bool starving = estimator_->starving();
   if (starving && !was_starving_ && ++starvation_warnings_ <= 10)
     spdlog::warn("feature starvation at {} ns: no feature track reached an update for {} s, the IMU alone carries the estimate{}",
                  ft.t_ns, p_.config.estimator.health_starvation_s,
@@ -349,10 +349,10 @@ void System::close_outputs() {
   if (smoothed_outputs_) smoothed_outputs_->close();
 }
 
-FilterStatus System::status() const { return pipeline_->status(); }
-const std::string& System::status_message() const { return pipeline_->status_message(); }
-FlightPhase System::flight_phase() const { return pipeline_->flight_phase(); }
-bool System::starving() const { return pipeline_->starving(); }
+FilterStatus System::status() const { return estimator_->status(); }
+const std::string& System::status_message() const { return estimator_->status_message(); }
+FlightPhase System::flight_phase() const { return estimator_->flight_phase(); }
+bool System::starving() const { return estimator_->starving(); }
 int System::tracked_cameras() const { return frontend_ ? frontend_->cameras() : 0; }
 
 }  // namespace vid::system

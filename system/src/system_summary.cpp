@@ -10,7 +10,7 @@
 
 namespace vid::system {
 
-nlohmann::json noise_fit_report(const PipelineCounters& c) {
+nlohmann::json noise_fit_report(const EstimatorCounters& c) {
   // A consistent filter's normalized innovations average 1 (per accelerometer axis; per degree
   // of freedom of the features used, a little below 1 as the 95 % gate cuts the tail). Above 3
   // the noise setting is overconfident and the estimate suffers: one warning line naming the key.
@@ -46,7 +46,7 @@ nlohmann::json noise_fit_report(const PipelineCounters& c) {
   return j;
 }
 
-nlohmann::json flight_phase_report(const PipelineCounters& c, FlightPhase now) {
+nlohmann::json flight_phase_report(const EstimatorCounters& c, FlightPhase now) {
   nlohmann::json j;
   j["final"] = to_string(now);
   j["landed_s"] = c.landed_s;
@@ -64,7 +64,7 @@ nlohmann::json flight_phase_report(const PipelineCounters& c, FlightPhase now) {
   return j;
 }
 
-nlohmann::json accel_report(const PipelineCounters& c) {
+nlohmann::json accel_report(const EstimatorCounters& c) {
   nlohmann::json j;
   const long seen = c.accel_updates + c.accel_rejected + c.accel_downweighted + c.accel_used_in_jumps;
   j["samples"] = seen;
@@ -97,9 +97,9 @@ nlohmann::json accel_report(const PipelineCounters& c) {
   return j;
 }
 
-PipelineCounters System::counters() const {
-  PipelineCounters c = past_counters_;
-  c.merge(pipeline_->counters());
+EstimatorCounters System::counters() const {
+  EstimatorCounters c = past_counters_;
+  c.merge(estimator_->counters());
   return c;
 }
 
@@ -125,7 +125,7 @@ void System::score(nlohmann::json& s, const Vec3Series& est_p, const Vec3Series&
   // A piece after a re-initialization starts with its first output (the in-flight initializer's
   // window, when it wrote one), the first piece at the first initialization.
   std::vector<TimeNs> starts;
-  const PipelineCounters c = counters();
+  const EstimatorCounters c = counters();
   if (!c.inits.empty()) starts.push_back(c.inits.front().t_ns);
   starts.insert(starts.end(), piece_starts_.begin(), piece_starts_.end());
   std::optional<SegmentedAte> seg;
@@ -176,9 +176,9 @@ nlohmann::json System::summary() const {
   if (p_.ignore_rotor_speeds) s["thrust_source"] = "thrust0 (rotor0 present, not used)";
   s["init"] = to_string(cfg.estimator.init_mode);
   s["features"] = p_.features == FeatureSource::kFeat0 ? "feat0" : "images";
-  s["status"] = to_string(pipeline_->status());
-  s["status_message"] = pipeline_->status_message();
-  const PipelineCounters c = counters();
+  s["status"] = to_string(estimator_->status());
+  s["status_message"] = estimator_->status_message();
+  const EstimatorCounters c = counters();
   {  // docs/notes/initialization.md: every (re-)initialization, how and when
     nlohmann::json events = nlohmann::json::array();
     for (const InitRecord& r : c.inits)
@@ -217,7 +217,7 @@ nlohmann::json System::summary() const {
   s["accel"] = accel_report(c);
   s["noise_fit"] = noise_fit_report(c);
   add_force_check(s, force_mag_, cfg.estimator.gravity);  // named warnings in s["warnings"]
-  if (dynamics()) s["flight_phase"] = flight_phase_report(c, pipeline_->flight_phase());
+  if (dynamics()) s["flight_phase"] = flight_phase_report(c, estimator_->flight_phase());
   s["timing"] = stage_times_.to_json();  // frontend + estimator stages; excludes image decoding
   s["timing"]["image_decoding"] = decode_ms_.to_json();
   s["peak_memory_mib"] = peak_memory_mib();

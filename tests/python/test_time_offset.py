@@ -35,7 +35,7 @@ def offset_series(out):
 def test_calibrated_offset_is_applied(tmp_path, offset):
     """A sequence whose camera runs t_d behind/ahead of the IMU, with t_d in its calibration,
     is estimated as well as the same flight without an offset (a negative t_d means frames
-    arrive after the IMU samples they precede: the pipeline holds the IMU for them)."""
+    arrive after the IMU samples they precede: the estimator holds the IMU for them)."""
     clean = simulate(tmp_path / "clean", "vid17_like.yaml", 20.0, 1, True)
     seq = simulate(tmp_path / "seq", scenario(tmp_path, "vid17_like", f"  time_offset_s: {offset}\n", offset),
                    20.0, 1, True)

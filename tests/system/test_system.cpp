@@ -1,5 +1,5 @@
 // The System built from typed parameters and fed feature frames: it adds nothing to the
-// estimator's own output (same estimates as the pipeline fed directly), reports status changes
+// estimator's own output (same estimates as the Estimator fed directly), reports status changes
 // and frame timings to its observers, writes the docs/formats.md §2 files, and scores itself
 // against pushed ground truth.
 #include <gtest/gtest.h>
@@ -19,7 +19,7 @@ namespace {
 using test::SynthConfig;
 using test::SynthData;
 
-SystemParams params_for(const PipelineConfig& pc) {
+SystemParams params_for(const EstimatorConfig& pc) {
   SystemParams p;
   p.config.estimator = pc.params;
   p.config.cameras = pc.cameras;
@@ -32,7 +32,7 @@ SystemParams params_for(const PipelineConfig& pc) {
 struct Fixture {
   SynthConfig c;
   SynthData d;
-  PipelineConfig pc;
+  EstimatorConfig pc;
   Fixture() {
     c.duration = 3.0;
     d = test::generate(c);
@@ -40,17 +40,17 @@ struct Fixture {
   }
 };
 
-TEST(System, FeatureInputGivesThePipelinesEstimatesAndObserversSeeEveryStep) {
+TEST(System, FeatureInputGivesTheEstimatorsEstimatesAndObserversSeeEveryStep) {
   Fixture f;
   const ImuState x0 = test::initial_state(f.c);
   const Eigen::MatrixXd P0 = initial_covariance(f.pc.params, x0.T_WI.q);
 
-  Pipeline pipe(f.pc);
+  Estimator estimator(f.pc);
   std::vector<EstimateOutput> want;
-  pipe.set_estimate_callback([&](const EstimateOutput& e) { want.push_back(e); });
-  pipe.initialize(0, x0, P0);
-  for (const Measurement& m : f.d.stream) pipe.push(m);
-  pipe.finish();
+  estimator.set_estimate_callback([&](const EstimateOutput& e) { want.push_back(e); });
+  estimator.initialize(0, x0, P0);
+  for (const Measurement& m : f.d.stream) estimator.push(m);
+  estimator.finish();
 
   System sys(params_for(f.pc));
   std::vector<EstimateOutput> got;
@@ -71,8 +71,8 @@ TEST(System, FeatureInputGivesThePipelinesEstimatesAndObserversSeeEveryStep) {
     ASSERT_EQ(got[i].F_ext_W, want[i].F_ext_W);
   }
   EXPECT_EQ(statuses, std::vector<FilterStatus>{FilterStatus::kOk});
-  EXPECT_EQ(frames, pipe.counters().frames);
-  EXPECT_EQ(sys.counters().visual_updates, pipe.counters().visual_updates);
+  EXPECT_EQ(frames, estimator.counters().frames);
+  EXPECT_EQ(sys.counters().visual_updates, estimator.counters().visual_updates);
   EXPECT_EQ(sys.estimates(), static_cast<long>(got.size()));
   EXPECT_EQ(sys.tracked_cameras(), 0);  // feat0: no frontend
   EXPECT_EQ(sys.summary()["mode"], "dynamics");

@@ -22,10 +22,10 @@ int main(int argc, char** argv) {
     c.noisy = true;
     c.seed = 100 + k;
     const SynthData d = generate(c);
-    PipelineConfig pc = matching_config(c, d, imu ? PropagationMode::kImu : PropagationMode::kDynamics);
+    EstimatorConfig pc = matching_config(c, d, imu ? PropagationMode::kImu : PropagationMode::kDynamics);
     pc.params.visual_update = vis;
     pc.params.use_fej = fej;
-    const RunResult r = run_pipeline(c, d, pc, true, 1000 + k);
+    const RunResult r = run_estimator(c, d, pc, true, 1000 + k);
     if (nt.empty()) { nt.assign(r.errors.size(), 0); np = nt; nf = nt; for (auto& e : r.errors) ts.push_back(e.t); }
     for (std::size_t i = 0; i < r.errors.size() && i < nt.size(); ++i) {
       const RunError& e = r.errors[i];

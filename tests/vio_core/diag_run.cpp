@@ -16,10 +16,10 @@ int main(int argc, char** argv) {
   if (argc > 4) c.pixel_sigma = std::atof(argv[4]);
   if (argc > 5) { c.gyro_density *= std::atof(argv[5]); c.accel_density *= std::atof(argv[5]); c.thrust_density *= std::atof(argv[5]); }
   const SynthData d = generate(c);
-  PipelineConfig pc = matching_config(c, d, imu ? PropagationMode::kImu : PropagationMode::kDynamics);
+  EstimatorConfig pc = matching_config(c, d, imu ? PropagationMode::kImu : PropagationMode::kDynamics);
   if (argc > 6) pc.params.use_fej = std::atoi(argv[6]) != 0;
   if (argc > 7) pc.params.window_size = std::atoi(argv[7]);
-  const RunResult r = run_pipeline(c, d, pc);
+  const RunResult r = run_estimator(c, d, pc);
   std::printf("status %s %s\n", to_string(r.status).c_str(), r.message.c_str());
   const auto& k = r.counters;
   std::printf("frames %ld vis upd %ld feat used %ld rej %ld accel %ld/%ld\n", k.frames, k.visual_updates,

@@ -1,13 +1,13 @@
 #pragma once
-// Run the pipeline over a synthetic sequence and collect errors against the analytic truth.
+// Run the estimator over a synthetic sequence and collect errors against the analytic truth.
 #include <map>
 #include <vector>
 
 #include "consistency.h"
 #include "geometry/so3.h"
 #include "synthetic.h"
+#include "vio_core/estimator.h"
 #include "vio_core/initializer.h"
-#include "vio_core/pipeline.h"
 
 namespace vid::test {
 
@@ -22,19 +22,19 @@ struct RunResult {
   std::vector<RunError> errors;
   FilterStatus status = FilterStatus::kOk;
   std::string message;
-  PipelineCounters counters;
+  EstimatorCounters counters;
   std::vector<FrameTimings> frames;
 };
 
 /// init_seed != 0: the initial estimate is the truth (with the generator's true biases)
 /// perturbed by one sample of the initial covariance (needed for an honest NEES).
-inline RunResult run_pipeline(const SynthConfig& c, const SynthData& d, const PipelineConfig& pc,
+inline RunResult run_estimator(const SynthConfig& c, const SynthData& d, const EstimatorConfig& pc,
                               bool init_from_truth = true, unsigned init_seed = 0) {
-  Pipeline pipe(pc);
+  Estimator estimator(pc);
   std::map<TimeNs, const TruthState*> truth;
   for (const TruthState& s : d.truth) truth[s.t_ns] = &s;
   RunResult out;
-  pipe.set_estimate_callback([&](const EstimateOutput& e) {
+  estimator.set_estimate_callback([&](const EstimateOutput& e) {
     auto it = truth.find(e.t_ns);
     if (it == truth.end()) return;
     const TruthState& s = *it->second;
@@ -50,7 +50,7 @@ inline RunResult run_pipeline(const SynthConfig& c, const SynthData& d, const Pi
     r.F_W_true = s.F_W;
     out.errors.push_back(r);
   });
-  pipe.set_frame_callback([&](const FrameTimings& f) { out.frames.push_back(f); });
+  estimator.set_frame_callback([&](const FrameTimings& f) { out.frames.push_back(f); });
   if (init_from_truth) {
     ImuState x0 = initial_state(c);
     const Eigen::MatrixXd P0 = initial_covariance(pc.params, x0.T_WI.q);
@@ -59,13 +59,13 @@ inline RunResult run_pipeline(const SynthConfig& c, const SynthData& d, const Pi
       x0.b_a = c.b_a;
       perturb_by_covariance(x0, P0, init_seed);
     }
-    pipe.initialize(0, x0, P0);
+    estimator.initialize(0, x0, P0);
   }
-  for (const Measurement& m : d.stream) pipe.push(m);
-  pipe.finish();
-  out.status = pipe.status();
-  out.message = pipe.status_message();
-  out.counters = pipe.counters();
+  for (const Measurement& m : d.stream) estimator.push(m);
+  estimator.finish();
+  out.status = estimator.status();
+  out.message = estimator.status_message();
+  out.counters = estimator.counters();
   return out;
 }
 

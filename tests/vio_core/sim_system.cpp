@@ -200,7 +200,7 @@ SimMetrics run_on_dataset(const std::filesystem::path& folder, const system::Sys
     sys.push(*meas);  // ground truth too: ground-truth initialization
   }
   sys.finish();
-  const PipelineCounters c = sys.counters();
+  const EstimatorCounters c = sys.counters();
   m.status = to_string(sys.status()) + (sys.status() == FilterStatus::kOk ? "" : ": " + sys.status_message());
   m.estimates = static_cast<long>(est.size());
   m.visual_updates = c.visual_updates;

@@ -167,8 +167,8 @@ SynthData generate(const SynthConfig& c) {
   return d;
 }
 
-PipelineConfig matching_config(const SynthConfig& c, const SynthData& d, PropagationMode mode) {
-  PipelineConfig pc;
+EstimatorConfig matching_config(const SynthConfig& c, const SynthData& d, PropagationMode mode) {
+  EstimatorConfig pc;
   EstimatorParams& p = pc.params;
   p.mode = mode;
   p.gravity = c.gravity;

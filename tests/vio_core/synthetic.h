@@ -8,8 +8,8 @@
 
 #include "types/calibration.h"
 #include "types/measurements.h"
+#include "vio_core/estimator.h"
 #include "vio_core/estimator_params.h"
-#include "vio_core/pipeline.h"
 
 namespace vid::test {
 
@@ -50,8 +50,8 @@ struct SynthData {
 /// Analytic truth at time t [s].
 TruthState synth_truth(const SynthConfig& c, double t);
 SynthData generate(const SynthConfig& c);
-/// Pipeline config matching the data (noise params = generator noise, GT-style init sigmas).
-PipelineConfig matching_config(const SynthConfig& c, const SynthData& d, PropagationMode mode);
+/// Estimator config matching the data (noise params = generator noise, GT-style init sigmas).
+EstimatorConfig matching_config(const SynthConfig& c, const SynthData& d, PropagationMode mode);
 /// Filter initial state from truth at the first IMU time (biases zero, force from truth).
 ImuState initial_state(const SynthConfig& c);
 

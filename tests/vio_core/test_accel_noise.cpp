@@ -17,7 +17,7 @@ constexpr double kRnom = 0.1 * 0.1 * kRate;  // 0.1 m/s^2/sqrt(Hz) per sample [(
 constexpr double kWindow_s = 0.25;        // the default accel_noise_window_s
 constexpr double kWindow = kWindow_s * kRate;  // in samples
 
-// Feeds r(k) on the x axis (y, z white at the nominal noise), as the pipeline does: the
+// Feeds r(k) on the x axis (y, z white at the nominal noise), as the estimator does: the
 // innovation covariance is the noise that was used (no state uncertainty here). Returns the
 // x-axis noise variance after every sample.
 template <class Fn>

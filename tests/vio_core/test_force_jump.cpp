@@ -180,7 +180,7 @@ TEST(ForceJumpDetector, WindowIsBounded) {
   EXPECT_EQ(det.size(), 8);
 }
 
-/// Feed a constant accelerometer reading a_m (noise-free) at 400 Hz as the pipeline does, until
+/// Feed a constant accelerometer reading a_m (noise-free) at 400 Hz as the estimator does, until
 /// the detector fires; returns the jump and its window (newest first), t = the filter time.
 struct Detected {
   ForceJump jump;
@@ -206,7 +206,7 @@ Detected feed_until_jump(FilterState& state, const Eigen::Vector3d& a_m, const E
   return d;
 }
 
-// A world-force filter whose force jumped by dF: feed the accelerometer as the pipeline does,
+// A world-force filter whose force jumped by dF: feed the accelerometer as the estimator does,
 // then apply the detected jump. The force reaches the new level, the window's corrections of
 // attitude and bias are undone, and velocity/position catch up with the step they missed.
 TEST(ApplyForceJump, ReEstimatesTheForceAndKeepsAttitudeAndBias) {

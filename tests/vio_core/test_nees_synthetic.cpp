@@ -33,7 +33,7 @@ NeesCurves monte_carlo(PropagationMode mode, int runs, double duration) {
     sc.noisy = true;
     sc.seed = 100 + k;
     const SynthData d = generate(sc);
-    const RunResult r = run_pipeline(sc, d, matching_config(sc, d, mode), true, 1000 + k);
+    const RunResult r = run_estimator(sc, d, matching_config(sc, d, mode), true, 1000 + k);
     EXPECT_EQ(r.status, FilterStatus::kOk) << r.message;
     if (k == 0) {
       for (const RunError& e : r.errors) c.t.push_back(e.t);

@@ -20,7 +20,7 @@ void FixedLagOutput::pose_leaving(TimeNs t_ns, const Pose& T_WI) {
 
 void FixedLagOutput::clone_released(TimeNs t_ns, const Eigen::Vector3d& F_ext_fc, const Eigen::Matrix3d& P_F,
                                     const std::optional<Pose>& T_WI) {
-  // Clones leave oldest first; a clone taken without clone_taken (none in the pipeline) is skipped.
+  // Clones leave oldest first; a clone taken without clone_taken (none in the estimator) is skipped.
   while (!pending_.empty() && pending_.front().t_ns < t_ns) pending_.pop_front();
   if (pending_.empty() || pending_.front().t_ns != t_ns) return;
   const Pending& c = pending_.front();

@@ -11,7 +11,7 @@
 
 #include "vid_system/outputs.h"
 #include "vid_system/stage_stats.h"
-#include "vio_core/pipeline.h"
+#include "vio_core/estimator.h"
 
 namespace vid::system {
 
@@ -39,11 +39,11 @@ double thread_cpu_ms();
 
 /// @brief What happened to the accelerometer samples: rejected count, fraction and time spans,
 /// and the force jumps (summary.json "accel"). Spans and jumps list at most 200 entries each.
-nlohmann::json accel_report(const PipelineCounters& c);
+nlohmann::json accel_report(const EstimatorCounters& c);
 
 /// @brief Landed / airborne (vio_core/flight_phase.h): the phase at the end, time in each, the
 /// lift-offs and touchdowns (summary.json "flight_phase"; at most 200 events listed).
-nlohmann::json flight_phase_report(const PipelineCounters& c, FlightPhase now);
+nlohmann::json flight_phase_report(const EstimatorCounters& c, FlightPhase now);
 
 /// @brief Write @p summary to DIR/summary.json (pretty, flushed).
 void write_summary(const std::filesystem::path& out_dir, const nlohmann::json& summary);

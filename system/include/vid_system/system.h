@@ -1,7 +1,7 @@
 #pragma once
 /// @file system.h
-/// @brief The estimator system: (KLT frontend on images | feat0 undistortion) -> estimator
-/// pipeline -> docs/formats.md §2 outputs, timings, counters and metrics, fed push-style one
+/// @brief The estimator system: (KLT frontend on images | feat0 undistortion) -> the
+/// estimator -> docs/formats.md §2 outputs, timings, counters and metrics, fed push-style one
 /// measurement at a time. vid_run drives it from a dataset reader, vid_live from LCM, the
 /// accuracy tests from simulator folders. The data flow reads top to bottom in system.cpp.
 
@@ -23,7 +23,7 @@
 #include "vid_system/metrics.h"
 #include "vid_system/outputs.h"
 #include "vid_system/summary.h"
-#include "vio_core/pipeline.h"
+#include "vio_core/estimator.h"
 
 namespace vid {
 class CameraModel;
@@ -91,10 +91,10 @@ class System {
   // --- Observers ------------------------------------------------------------------------------
   /// @brief Every estimate (state, covariance blocks, force), after it was written to the outputs.
   void on_estimate(std::function<void(const EstimateOutput&)> cb) { on_estimate_ = std::move(cb); }
-  /// @brief Every smoothed estimate (estimator smoother_lag_s > 0; Pipeline::set_smoothed_callback),
+  /// @brief Every smoothed estimate (estimator smoother_lag_s > 0; Estimator::set_smoothed_callback),
   /// after force_smoothed.csv / trajectory_smoothed_tum.txt got its row.
   void on_smoothed(std::function<void(const EstimateOutput&)> cb) { on_smoothed_ = std::move(cb); }
-  /// @brief Every camera frame the pipeline processed, after timing.csv got its row.
+  /// @brief Every camera frame the estimator processed, after timing.csv got its row.
   void on_frame(std::function<void(const FrameTimings&)> cb) { on_frame_ = std::move(cb); }
   /// @brief Every change of the filter status (initialized, diverged, ...), with its message.
   void on_status(std::function<void(FilterStatus, const std::string&)> cb) { on_status_ = std::move(cb); }
@@ -107,7 +107,7 @@ class System {
   /// @brief Landed / airborne now (vio_core/flight_phase.h; unknown in imu mode).
   FlightPhase flight_phase() const;
   /// @brief Counters of every estimator of the run (also those replaced by restart()).
-  PipelineCounters counters() const;
+  EstimatorCounters counters() const;
   /// @brief The parameters (mode and init decided).
   const SystemParams& params() const { return p_; }
   const SystemConfig& config() const { return p_.config; }
@@ -135,7 +135,7 @@ class System {
 
  private:
   void build_estimator();
-  void to_pipeline(Measurement m);
+  void to_estimator(Measurement m);
   void report_status();
   void track(TimeNs t_ns, const cv::Mat& left, const cv::Mat& right);
   void estimate_out(const EstimateOutput& e);
@@ -148,7 +148,7 @@ class System {
   void frame_out(const FrameTimings& ft);
 
   SystemParams p_;
-  std::unique_ptr<Pipeline> pipeline_;
+  std::unique_ptr<Estimator> estimator_;
   std::unique_ptr<FrontendStage> frontend_;
   std::array<int, 2> image_bits_{0, 0};  ///< per camera, for push(ImageFrame); 0 until known
   std::vector<std::unique_ptr<CameraModel>> models_;  ///< feat0 undistortion
@@ -164,14 +164,14 @@ class System {
   std::vector<Eigen::Matrix3d> gt_R_WI_;  ///< at gt_p_.t_ns, for the body-frame force figure
   std::vector<TimeNs> mass_t_;
   std::vector<double> mass_kg_;
-  PipelineCounters past_counters_;  ///< counters of estimators replaced by restart()
+  EstimatorCounters past_counters_;  ///< counters of estimators replaced by restart()
   long estimates_ = 0, frames_ = 0, feature_frames_ = 0;
   FrameFaults faults_;
   int restarts_ = 0;
   bool mark_next_estimate_ = false, mark_next_smoothed_ = false;  ///< after a restart (outputs' marker)
   TimeNs last_estimate_t_ = INT64_MIN;
   std::vector<TimeNs> piece_starts_;  ///< first time of each piece after a re-initialization
-  bool was_starving_ = false;    ///< the pipeline's starvation flag at the previous frame
+  bool was_starving_ = false;    ///< the estimator's starvation flag at the previous frame
   int starvation_warnings_ = 0;  ///< episodes warned about (the first 10)
   StageStats decode_ms_, tracking_cpu_ms_;
   double decode_cpu_ms_ = 0.0;

@@ -17,7 +17,7 @@
 #include <optional>
 
 #include "geometry/pose.h"
-#include "vio_core/pipeline_outputs.h"
+#include "vio_core/estimator_outputs.h"
 
 namespace vid {
 

@@ -2,7 +2,7 @@
 /// @file health_monitor.h
 /// @brief Filter health from the visual updates: innovations out of band, feature starvation.
 ///
-/// The divergence checks of the pipeline catch a state that is already absurd (not finite,
+/// The divergence checks of the estimator catch a state that is already absurd (not finite,
 /// velocity or position sigma out of range, covariance not positive definite). Two slower
 /// failures show first in the visual updates:
 /// * **Innovations out of band.** With a consistent filter the 95 % chi2 gate rejects about
@@ -10,7 +10,7 @@
 ///   `health_max_chi2_rejected_fraction` of at least `health_min_tested_features` tested features
 ///   fail the gate, the predicted measurements no longer match the images: the state or its
 ///   covariance is wrong (the NEES is far out of band, which needs ground truth to see
-///   directly; the innovations show it without). The pipeline reports it as diverged: vid_run
+///   directly; the innovations show it without). The estimator reports it as diverged: vid_run
 ///   stops with exit 3, vid_live re-initializes.
 /// * **Feature starvation.** No feature track reaches an update for `health_starvation_s`
 ///   while frames arrive (the frontend loses every track: covered lens, dark, blank or blurred

@@ -118,7 +118,7 @@ struct CovarianceHealth {
 
 /// @brief How a frame's true time relates to its clone's (docs/notes/time-offset.md).
 struct CloneTiming {
-  Eigen::Vector3d w_I = Eigen::Vector3d::Zero();   ///< body rate at the clone's time (Pipeline::rate_for_clone)
+  Eigen::Vector3d w_I = Eigen::Vector3d::Zero();   ///< body rate at the clone's time (Estimator::rate_for_clone)
   Eigen::Vector3d v_td_W = Eigen::Vector3d::Zero();  ///< world velocity in the t_d coupling
   double jitter_s = 0.0;  ///< 1-sigma timestamp noise of this frame, independent per frame
 };
@@ -175,7 +175,7 @@ class FilterState {
   /// With the time-offset state, the current time is the image's estimated IMU-clock time
   /// t_cam + t_d_hat, and the clone is the pose at the true one: its error is the IMU pose's
   /// plus [w_I; v_td_W] times the offset's error (the caller passes the rates it trusts; the
-  /// pipeline's choice is in Pipeline::process_frame). A timestamp jitter adds the pose change
+  /// estimator's choice is in Estimator::process_frame). A timestamp jitter adds the pose change
   /// over it, [w_I; v_WI] jitter_s, as independent noise of the clone.
   void augment_clone(const CloneTiming& timing = CloneTiming());
   /// @brief Remove the oldest clone (marginalize: drop its rows/cols). No-op without clones.

@@ -1,6 +1,6 @@
 #pragma once
 /// @file visual_updater.h
-/// @brief The MSCKF visual update as the pipeline runs it (docs/model.md §7): its options
+/// @brief The MSCKF visual update as the estimator runs it (docs/model.md §7): its options
 /// (pixel noise in normalized units, chi2 multiplier, minimum track length, compression,
 /// triangulation) and the camera extrinsics built once from the configuration, then per frame
 /// the stacked system of msckf/visual_update.h applied in one EKF correction. In the spirit of

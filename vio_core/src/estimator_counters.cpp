@@ -1,13 +1,13 @@
-/// @file pipeline_counters.cpp
-/// @brief PipelineCounters::merge (pipeline_counters.h).
-#include "vio_core/pipeline_counters.h"
+/// @file estimator_counters.cpp
+/// @brief EstimatorCounters::merge (estimator_counters.h).
+#include "vio_core/estimator_counters.h"
 
 #include <algorithm>
 
 namespace vid {
 
-void PipelineCounters::merge(const PipelineCounters& b) {
-  PipelineCounters& a = *this;
+void EstimatorCounters::merge(const EstimatorCounters& b) {
+  EstimatorCounters& a = *this;
   a.imu_samples += b.imu_samples;
   a.inits.insert(a.inits.end(), b.inits.begin(), b.inits.end());
   a.accel_updates += b.accel_updates;

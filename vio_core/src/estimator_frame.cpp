@@ -1,24 +1,24 @@
-/// @file pipeline_frame.cpp
-/// @brief The pipeline's camera frame: its place on the IMU clock (time offset, hold, the gyro
+/// @file estimator_frame.cpp
+/// @brief The estimator's camera frame: its place on the IMU clock (time offset, hold, the gyro
 /// rate of its clone), the MSCKF update, zero-velocity, marginalization, health and divergence.
 #include <algorithm>
 #include <cmath>
 
-#include "pipeline_detail.h"
+#include "estimator_detail.h"
 #include "geometry/so3.h"
 #include "vio_core/chi2.h"
 #include "vio_core/ekf_update.h"
+#include "vio_core/estimator.h"
 #include "vio_core/fixed_lag.h"  // complete type for lagged_
 #include "vio_core/msckf/clone_poses.h"
 #include "vio_core/msckf/feature_database.h"
-#include "vio_core/pipeline.h"
 #include "vio_core/rate_fit.h"
 #include "vio_core/visual_updater.h"
 
 namespace vid {
-using namespace pipeline_detail;
+using namespace estimator_detail;
 
-TimeNs Pipeline::frame_hold_ns() const {
+TimeNs Estimator::frame_hold_ns() const {
   // A frame stamped t_cam belongs at t_cam + t_d on the IMU clock: with t_d < 0 it arrives after
   // the IMU samples it precedes. Hold IMU samples until the stamps of the other streams are
   // -t_d ahead (plus 3 sigma while t_d is estimated), at most 0.2 s; while t_d is estimated, also
@@ -28,7 +28,7 @@ TimeNs Pipeline::frame_hold_ns() const {
   return static_cast<TimeNs>(std::llround(std::clamp(hold_s, 0.0, 0.2) * 1e9)) + fit_ns;
 }
 
-Eigen::Vector3d Pipeline::rate_for_clone(TimeNs t, const Eigen::Vector3d& fallback) const {
+Eigen::Vector3d Estimator::rate_for_clone(TimeNs t, const Eigen::Vector3d& fallback) const {
   if (!state_.time_offset()) return fallback;
   std::vector<GyroSample> window(gyro_history_.begin(), gyro_history_.end());
   for (const ImuSample& s : imu_queue_) {  // held by frame_hold_ns: the samples after t
@@ -39,15 +39,15 @@ Eigen::Vector3d Pipeline::rate_for_clone(TimeNs t, const Eigen::Vector3d& fallba
   return fit ? fit->rate_I : fallback;
 }
 
-double Pipeline::time_offset_s() const {
+double Estimator::time_offset_s() const {
   return state_.time_offset_or(config_.cameras.empty() ? 0.0 : config_.cameras.front().timeshift_cam_imu_s);
 }
 
-TimeNs Pipeline::imu_clock(TimeNs t_cam) const {
+TimeNs Estimator::imu_clock(TimeNs t_cam) const {
   return t_cam + static_cast<TimeNs>(std::llround(time_offset_s() * 1e9));
 }
 
-void Pipeline::process_frame(const FeatureFrame& f, TimeNs stamp, const Eigen::Vector3d& w_I) {
+void Estimator::process_frame(const FeatureFrame& f, TimeNs stamp, const Eigen::Vector3d& w_I) {
   ++counters_.frames;
   const EstimatorParams& p = config_.params;
   const auto t_frame = Clock::now();
@@ -126,7 +126,7 @@ void Pipeline::process_frame(const FeatureFrame& f, TimeNs stamp, const Eigen::V
   pending_timings_ = FrameTimings{};
 }
 
-void Pipeline::zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest,
+void Estimator::zero_velocity_if_still(const msckf::ClonePose& oldest, const msckf::ClonePose& newest,
                                       double sigma_mps, bool landed) {
   // A median over fewer features is not a statement about the scene; over less than 0.25 s
   // (5 frames at 20 Hz) slow motion has not yet shown above the pixel noise.
@@ -144,7 +144,7 @@ void Pipeline::zero_velocity_if_still(const msckf::ClonePose& oldest, const msck
   if (landed) ++counters_.zero_velocity_updates_landed;
 }
 
-void Pipeline::check_health(TimeNs t, int used, int rejected_chi2, int untriangulated) {
+void Estimator::check_health(TimeNs t, int used, int rejected_chi2, int untriangulated) {
   const HealthVerdict v = health_.on_frame(t, used + rejected_chi2, rejected_chi2, untriangulated);
   counters_.starvation_episodes = health_.starvation_episodes();
   counters_.starved_s = health_.starved_s();
@@ -155,7 +155,7 @@ void Pipeline::check_health(TimeNs t, int used, int rejected_chi2, int untriangu
   }
 }
 
-void Pipeline::check_divergence(bool full) {
+void Estimator::check_divergence(bool full) {
   const ImuState& x = state_.imu();
   const EstimatorParams& p = config_.params;
   std::string why;

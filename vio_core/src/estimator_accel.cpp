@@ -1,12 +1,12 @@
-/// @file pipeline_accel.cpp
-/// @brief The pipeline's accelerometer step (dynamics mode): the gated update, the
+/// @file estimator_accel.cpp
+/// @brief The estimator's accelerometer step (dynamics mode): the gated update, the
 /// vibration-aware noise, force jumps, rejected / down-weighted spans, the flight phase.
 #include <algorithm>
 
 #include "vio_core/chi2.h"
 #include "vio_core/ekf_update.h"
+#include "vio_core/estimator.h"
 #include "vio_core/force_output.h"
-#include "vio_core/pipeline.h"
 
 namespace vid {
 
@@ -24,17 +24,17 @@ void add_to_spans(std::vector<TimeSpan>& spans, TimeNs t) {
 }
 }  // namespace
 
-void Pipeline::record_rejected(TimeNs t) {
+void Estimator::record_rejected(TimeNs t) {
   ++counters_.accel_rejected;
   add_to_spans(counters_.accel_rejected_spans, t);
 }
 
-void Pipeline::record_downweighted(TimeNs t) {
+void Estimator::record_downweighted(TimeNs t) {
   ++counters_.accel_downweighted;
   add_to_spans(counters_.accel_downweighted_spans, t);
 }
 
-void Pipeline::record_past_gate(TimeNs t) {
+void Estimator::record_past_gate(TimeNs t) {
   if (config_.params.accel_gate_downweight) {
     record_downweighted(t);
   } else {
@@ -42,7 +42,7 @@ void Pipeline::record_past_gate(TimeNs t) {
   }
 }
 
-void Pipeline::add_noise_fit(const AccelInnovation& info) {
+void Estimator::add_noise_fit(const AccelInnovation& info) {
   // info holds the innovation in the force frame; the fit is per IMU axis.
   const bool world = state_.force_frame() == ForceFrame::kWorld;
   const Eigen::Vector3d r_I = world ? Eigen::Vector3d(info.R_WI.transpose() * info.w) : info.w;
@@ -57,12 +57,12 @@ void Pipeline::add_noise_fit(const AccelInnovation& info) {
   ++counters_.accel_nis_count;
 }
 
-double Pipeline::nominal_accel_var() const {
+double Estimator::nominal_accel_var() const {
   const EstimatorParams& p = config_.params;
   return p.accel_noise_density * p.accel_noise_density * p.imu_rate_hz;
 }
 
-void Pipeline::accel_step(const ImuInput& in) {
+void Estimator::accel_step(const ImuInput& in) {
   const EstimatorParams& p = config_.params;
   const Eigen::Vector3d noise_var = accel_noise_.noise_var();
   const double thr = p.accel_chi2_gating ? p.accel_chi2_multiplier * chi2_quantile(0.99, 3) : 0.0;
@@ -109,7 +109,7 @@ void Pipeline::accel_step(const ImuInput& in) {
     counters_.force_jump_events.push_back(ForceJumpRecord{jump->t_ns, jump->n, jump->delta.norm()});
 }
 
-void Pipeline::update_flight_phase(TimeNs t) {
+void Estimator::update_flight_phase(TimeNs t) {
   const FlightPhase before = phase_.phase();
   const FlightPhase now = phase_.update(t, force_in_world(state_.imu(), state_.force_frame()));
   if (before != FlightPhase::kUnknown) {

@@ -1,4 +1,4 @@
-// Fixed-lag smoothing in the pipeline (docs/notes/smoothing.md) on analytic
+// Fixed-lag smoothing in the estimator (docs/notes/smoothing.md) on analytic
 // synthetic sequences: the causal estimates are those of the filter without force clones (to
 // 1e-9), every causal estimate comes out smoothed once, the smoothed force covariance is at most
 // the causal one, and over a Monte-Carlo of seeds the smoothed force is more accurate and its
@@ -20,20 +20,20 @@ struct SmootherRun {
   FilterStatus status = FilterStatus::kOk;
 };
 
-SmootherRun run(const SynthConfig& c, const SynthData& d, const PipelineConfig& pc, unsigned init_seed) {
-  Pipeline pipe(pc);
+SmootherRun run(const SynthConfig& c, const SynthData& d, const EstimatorConfig& pc, unsigned init_seed) {
+  Estimator estimator(pc);
   SmootherRun out;
-  pipe.set_estimate_callback([&](const EstimateOutput& e) { out.causal.push_back(e); });
-  pipe.set_smoothed_callback([&](const EstimateOutput& e) { out.smoothed.push_back(e); });
+  estimator.set_estimate_callback([&](const EstimateOutput& e) { out.causal.push_back(e); });
+  estimator.set_smoothed_callback([&](const EstimateOutput& e) { out.smoothed.push_back(e); });
   ImuState x0 = initial_state(c);
   const Eigen::MatrixXd P0 = initial_covariance(pc.params, x0.T_WI.q);
   x0.b_g = c.b_g;
   x0.b_a = c.b_a;
   perturb_by_covariance(x0, P0, init_seed);
-  pipe.initialize(0, x0, P0);
-  for (const Measurement& m : d.stream) pipe.push(m);
-  pipe.finish();
-  out.status = pipe.status();
+  estimator.initialize(0, x0, P0);
+  for (const Measurement& m : d.stream) estimator.push(m);
+  estimator.finish();
+  out.status = estimator.status();
   return out;
 }
 
@@ -46,11 +46,11 @@ SynthConfig noisy_config(unsigned seed) {
   return c;
 }
 
-TEST(PipelineSmoother, CausalEstimatesUnchangedAndEverySmoothedOnce) {
+TEST(EstimatorSmoother, CausalEstimatesUnchangedAndEverySmoothedOnce) {
   const SynthConfig c = noisy_config(4);
   const SynthData d = generate(c);
-  const PipelineConfig plain = matching_config(c, d, PropagationMode::kDynamics);
-  PipelineConfig lagged = plain;
+  const EstimatorConfig plain = matching_config(c, d, PropagationMode::kDynamics);
+  EstimatorConfig lagged = plain;
   lagged.params.smoother_lag_s = 0.3;
   lagged.params.smoother_clone_period_s = 0.1;
   const SmootherRun a = run(c, d, plain, 7), b = run(c, d, lagged, 7);
@@ -82,14 +82,14 @@ TEST(PipelineSmoother, CausalEstimatesUnchangedAndEverySmoothedOnce) {
   EXPECT_GT(moved, static_cast<int>(b.causal.size()) / 2);
 }
 
-TEST(PipelineSmoother, SmoothedForceMoreAccurateAndConsistentOverSeeds) {
+TEST(EstimatorSmoother, SmoothedForceMoreAccurateAndConsistentOverSeeds) {
   constexpr int kRuns = 6;
   double se_causal = 0, se_smooth = 0, nees_causal = 0, nees_smooth = 0;
   long n = 0;
   for (int run_i = 0; run_i < kRuns; ++run_i) {
     const SynthConfig c = noisy_config(20 + run_i);
     const SynthData d = generate(c);
-    PipelineConfig pc = matching_config(c, d, PropagationMode::kDynamics);
+    EstimatorConfig pc = matching_config(c, d, PropagationMode::kDynamics);
     pc.params.smoother_lag_s = 0.3;
     const SmootherRun r = run(c, d, pc, 100 + run_i);
     ASSERT_EQ(r.status, FilterStatus::kOk);

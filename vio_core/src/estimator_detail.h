@@ -1,12 +1,12 @@
 #pragma once
-/// @file pipeline_detail.h
-/// @brief What the Pipeline's source files (pipeline*.cpp) share and nobody else needs: the
+/// @file estimator_detail.h
+/// @brief What the Estimator's source files (estimator*.cpp) share and nobody else needs: the
 /// wall clock of the per-frame timings and the scheduling constants.
 #include <chrono>
 
 #include "types/measurements.h"
 
-namespace vid::pipeline_detail {
+namespace vid::estimator_detail {
 
 using Clock = std::chrono::steady_clock;
 inline double ms_since(Clock::time_point t0) {
@@ -22,4 +22,4 @@ constexpr TimeNs kTdRateHalfWindowNs = 400'000'000;
 // The shortest window rate_for_clone falls back to near an impact: 21 samples at 400 Hz.
 constexpr TimeNs kTdRateMinHalfWindowNs = 25'000'000;
 
-}  // namespace vid::pipeline_detail
+}  // namespace vid::estimator_detail

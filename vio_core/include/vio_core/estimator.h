@@ -1,6 +1,6 @@
 #pragma once
-/// @file pipeline.h
-/// @brief The estimator pipeline: consumes time-ordered measurements (IMU, rotor speeds or
+/// @file estimator.h
+/// @brief The estimator: consumes time-ordered measurements (IMU, rotor speeds or
 /// thrust, feature frames; ground truth only with InitMode::kGroundTruth), runs
 /// initialization, propagation, accelerometer updates, MSCKF visual updates and clone
 /// marginalization, and emits IMU-rate estimates plus per-frame stage timings.
@@ -10,7 +10,7 @@
 /// * dynamics mode: an IMU sample is processed once thrust is known at its time (a rotor or
 ///   thrust sample at or after it), or once the stream has moved rotor_gap_s past it; then
 ///   the last thrust is held and the thrust noise is inflated by rotor_gap_noise_scale
-///   (counted in PipelineCounters::rotor_gap_samples).
+///   (counted in EstimatorCounters::rotor_gap_samples).
 /// * IMU gap (step > imu_gap_s): the interval is integrated in sub-steps of at most 10 ms
 ///   with inputs interpolated linearly between the samples around the gap and all IMU/thrust
 ///   noises inflated by imu_gap_noise_scale (counted in imu_gaps).
@@ -27,15 +27,15 @@
 
 #include "types/calibration.h"
 #include "types/measurements.h"
+#include "vio_core/accel_noise.h"
 #include "vio_core/dynamic_initializer.h"
+#include "vio_core/estimator_counters.h"
+#include "vio_core/estimator_outputs.h"
 #include "vio_core/estimator_params.h"
 #include "vio_core/flight_phase.h"
-#include "vio_core/accel_noise.h"
-#include "vio_core/health_monitor.h"
 #include "vio_core/force_jump.h"
+#include "vio_core/health_monitor.h"
 #include "vio_core/initializer.h"
-#include "vio_core/pipeline_counters.h"
-#include "vio_core/pipeline_outputs.h"
 #include "vio_core/rate_fit.h"
 #include "vio_core/state.h"
 #include "vio_core/thrust_buffer.h"
@@ -49,20 +49,20 @@ class FeatureDatabase;
 struct ClonePose;
 }
 
-/// @brief Everything the pipeline needs besides the measurements.
-struct PipelineConfig {
+/// @brief Everything the estimator needs besides the measurements.
+struct EstimatorConfig {
   EstimatorParams params;
   VehicleParams vehicle;              ///< mass and rotor thrust coefficients (dynamics mode)
   std::vector<CameraCalib> cameras;   ///< by cam_id (T_IC, intrinsics for the pixel noise)
 };
 
 /// @brief The estimator.
-class Pipeline {
+class Estimator {
  public:
-  explicit Pipeline(PipelineConfig config);
-  ~Pipeline();
-  Pipeline(const Pipeline&) = delete;
-  Pipeline& operator=(const Pipeline&) = delete;
+  explicit Estimator(EstimatorConfig config);
+  ~Estimator();
+  Estimator(const Estimator&) = delete;
+  Estimator& operator=(const Estimator&) = delete;
 
   void set_estimate_callback(std::function<void(const EstimateOutput&)> cb) { on_estimate_ = std::move(cb); }
   void set_frame_callback(std::function<void(const FrameTimings&)> cb) { on_frame_ = std::move(cb); }
@@ -93,8 +93,8 @@ class Pipeline {
   bool starving() const { return health_.starving(); }
   const std::string& status_message() const { return status_message_; }
   const FilterState& state() const { return state_; }
-  const PipelineCounters& counters() const { return counters_; }
-  const PipelineConfig& config() const { return config_; }
+  const EstimatorCounters& counters() const { return counters_; }
+  const EstimatorConfig& config() const { return config_; }
 
  private:
   struct ImuInput {
@@ -141,12 +141,12 @@ class Pipeline {
   void update_flight_phase(TimeNs t);
   ImuInput interpolate(const ImuInput& a, const ImuInput& b, TimeNs t) const;
 
-  PipelineConfig config_;
+  EstimatorConfig config_;
   FilterState state_;
   StaticInitializer initializer_;
   std::unique_ptr<DynamicInitializer> dynamic_init_;  ///< init_mode auto with a stereo pair
   /// @brief While waiting (auto / static): offer the sample and the frames up to it to the
-  /// initializers; on success initialize and process the rest as usual (pipeline_init.cpp).
+  /// initializers; on success initialize and process the rest as usual (estimator_init.cpp).
   void init_from_sensors(const ImuInput& in);
   void record_init(TimeNs t, const char* how);
   ThrustBuffer thrust_;
@@ -171,7 +171,7 @@ class Pipeline {
   TimeNs stream_time_ = INT64_MIN;
   FilterStatus status_ = FilterStatus::kWaitingForInit;
   std::string status_message_ = "waiting for initialization";
-  PipelineCounters counters_;
+  EstimatorCounters counters_;
   FrameTimings pending_timings_;
   ForceJumpDetector jumps_;
   FlightPhaseClassifier phase_;

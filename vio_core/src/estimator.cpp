@@ -1,13 +1,13 @@
-/// @file pipeline.cpp
+/// @file estimator.cpp
 /// @brief Measurement scheduling, initialization and propagation; the accelerometer step is in
-/// pipeline_accel.cpp, the camera frame's in pipeline_frame.cpp.
-#include "vio_core/pipeline.h"
+/// estimator_accel.cpp, the camera frame's in estimator_frame.cpp.
+#include "vio_core/estimator.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "pipeline_detail.h"
+#include "estimator_detail.h"
 #include "vio_core/fixed_lag.h"  // complete type for lagged_
 #include "vio_core/msckf/feature_database.h"
 #include "vio_core/propagation.h"
@@ -15,9 +15,9 @@
 #include "vio_core/visual_updater.h"
 
 namespace vid {
-using namespace pipeline_detail;
+using namespace estimator_detail;
 
-Pipeline::Pipeline(PipelineConfig config)
+Estimator::Estimator(EstimatorConfig config)
     : config_(std::move(config)),
       state_(config_.params),
       initializer_(config_.params),
@@ -49,9 +49,9 @@ Pipeline::Pipeline(PipelineConfig config)
             [](const CameraCalib& a, const CameraCalib& b) { return a.cam_id < b.cam_id; });
 }
 
-Pipeline::~Pipeline() = default;
+Estimator::~Estimator() = default;
 
-void Pipeline::push(const Measurement& m) {
+void Estimator::push(const Measurement& m) {
   stream_time_ = std::max(stream_time_, stamp_of(m));
   if (const auto* imu = std::get_if<ImuSample>(&m)) {
     imu_queue_.push_back(*imu);
@@ -76,7 +76,7 @@ void Pipeline::push(const Measurement& m) {
   drain(false);
 }
 
-void Pipeline::finish() {
+void Estimator::finish() {
   drain(true);
   smoother_frame_end(false, true);
   // Samples still in the jump detector's window: no jump used a gated one.
@@ -85,7 +85,7 @@ void Pipeline::finish() {
   jumps_.clear();
 }
 
-void Pipeline::drain(bool force) {
+void Estimator::drain(bool force) {
   const bool dyn = config_.params.mode == PropagationMode::kDynamics;
   const TimeNs gap_ns = seconds_to_ns(config_.params.rotor_gap_s);
   const TimeNs hold_ns = frame_hold_ns();
@@ -111,7 +111,7 @@ void Pipeline::drain(bool force) {
   }
 }
 
-void Pipeline::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu) {
+void Estimator::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd& P_imu) {
   if (lagged_) {  // a re-initialization: what the old state smoothed goes out first
     smoother_frame_end(false, true);
     lagged_ = std::make_unique<FixedLagOutput>(config_.params.force_frame);
@@ -130,7 +130,7 @@ void Pipeline::initialize(TimeNs t_ns, const ImuState& x, const Eigen::MatrixXd&
   status_message_ = "ok";
 }
 
-Pipeline::ImuInput Pipeline::interpolate(const ImuInput& a, const ImuInput& b, TimeNs t) const {
+Estimator::ImuInput Estimator::interpolate(const ImuInput& a, const ImuInput& b, TimeNs t) const {
   if (b.t == a.t) return b;
   const double w = static_cast<double>(t - a.t) / static_cast<double>(b.t - a.t);
   ImuInput r;
@@ -142,7 +142,7 @@ Pipeline::ImuInput Pipeline::interpolate(const ImuInput& a, const ImuInput& b, T
   return r;
 }
 
-std::optional<GroundTruthSample> Pipeline::groundtruth_at(TimeNs t) const {
+std::optional<GroundTruthSample> Estimator::groundtruth_at(TimeNs t) const {
   // The IMU sample is processed after the ground truth that follows it has arrived (the frame
   // hold), so the newest row is often past t: interpolate between the two that bracket t.
   for (std::size_t i = 1; i < init_gt_.size(); ++i) {
@@ -167,7 +167,7 @@ std::optional<GroundTruthSample> Pipeline::groundtruth_at(TimeNs t) const {
   return std::nullopt;
 }
 
-void Pipeline::process_imu(const ImuInput& in) {
+void Estimator::process_imu(const ImuInput& in) {
   ++counters_.imu_samples;
   const EstimatorParams& p = config_.params;
   if (p.init_sigma_time_offset > 0.0) {
@@ -175,7 +175,7 @@ void Pipeline::process_imu(const ImuInput& in) {
     while (in.t - gyro_history_.front().t_ns > kTdRateHalfWindowNs) gyro_history_.pop_front();
   }
   if (status_ == FilterStatus::kWaitingForInit && p.init_mode != InitMode::kGroundTruth) {
-    init_from_sensors(in);  // pipeline_init.cpp
+    init_from_sensors(in);  // estimator_init.cpp
     return;
   }
   if (status_ == FilterStatus::kWaitingForInit) {
@@ -209,7 +209,7 @@ void Pipeline::process_imu(const ImuInput& in) {
   process_imu_initialized(in);
 }
 
-void Pipeline::process_imu_initialized(const ImuInput& in) {
+void Estimator::process_imu_initialized(const ImuInput& in) {
   const EstimatorParams& p = config_.params;
   if (status_ == FilterStatus::kDiverged) return;
   if (!last_input_) {  // initialized explicitly: this sample starts the propagation
@@ -254,7 +254,7 @@ void Pipeline::process_imu_initialized(const ImuInput& in) {
   if (status_ == FilterStatus::kOk) emit(in.t);
 }
 
-void Pipeline::integrate_to(const ImuInput& a, const ImuInput& b, TimeNs t_end, double noise_scale,
+void Estimator::integrate_to(const ImuInput& a, const ImuInput& b, TimeNs t_end, double noise_scale,
                             double thrust_scale) {
   const TimeNs t0 = state_.time();
   if (t_end <= t0) return;

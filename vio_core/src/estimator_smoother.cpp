@@ -1,15 +1,15 @@
-/// @file pipeline_smoother.cpp
-/// @brief The pipeline's fixed-lag smoothing: force clones taken at camera frames, released
+/// @file estimator_smoother.cpp
+/// @brief The estimator's fixed-lag smoothing: force clones taken at camera frames, released
 /// after smoother_lag_s as anchors of the smoothed outputs (docs/notes/smoothing.md; the
 /// bookkeeping is FilterState's, the outputs fixed_lag.h's).
 #include <optional>
 
+#include "vio_core/estimator.h"
 #include "vio_core/fixed_lag.h"
-#include "vio_core/pipeline.h"
 
 namespace vid {
 
-bool Pipeline::smoother_frame_start() {
+bool Estimator::smoother_frame_start() {
   if (!lagged_) return false;
   // Frame times jitter: a clone is due from 1 ms before the period is up.
   constexpr TimeNs kToleranceNs = 1'000'000;
@@ -20,7 +20,7 @@ bool Pipeline::smoother_frame_start() {
   return true;
 }
 
-void Pipeline::smoother_frame_end(bool cloned, bool all) {
+void Estimator::smoother_frame_end(bool cloned, bool all) {
   if (!lagged_) return;
   const auto pose_clone_at = [this](TimeNs t) -> std::optional<Pose> {
     for (const CloneState& c : state_.clones())

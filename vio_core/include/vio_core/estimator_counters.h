@@ -1,6 +1,6 @@
 #pragma once
-/// @file pipeline_counters.h
-/// @brief The pipeline's event counters and records (summary.json, docs/formats.md §2).
+/// @file estimator_counters.h
+/// @brief The estimator's event counters and records (summary.json, docs/formats.md §2).
 
 #include <Eigen/Core>
 #include <string>
@@ -37,7 +37,7 @@ struct InitRecord {
 };
 
 /// @brief Event counters.
-struct PipelineCounters {
+struct EstimatorCounters {
   std::vector<InitRecord> inits;  ///< every (re-)initialization
   long imu_samples = 0;
   long accel_updates = 0;     ///< accelerometer samples applied one by one at full weight
@@ -81,9 +81,9 @@ struct PipelineCounters {
   long visual_dof_sum = 0;
   long accel_noise_inflated = 0;  ///< accelerometer samples with the vibration-aware noise above nominal
 
-  /// @brief Add another run piece's counts (a re-initialized pipeline's): sums, event lists
+  /// @brief Add another run piece's counts (a re-initialized estimator's): sums, event lists
   /// appended, the largest chi2-rejected fraction kept.
-  void merge(const PipelineCounters& b);
+  void merge(const EstimatorCounters& b);
 };
 
 }  // namespace vid

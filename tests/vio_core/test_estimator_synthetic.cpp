@@ -1,4 +1,4 @@
-// Pipeline on analytic synthetic sequences: noise-free exactness, noisy accuracy, gaps.
+// Estimator on analytic synthetic sequences: noise-free exactness, noisy accuracy, gaps.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -30,11 +30,11 @@ Maxima maxima_after(const RunResult& r, double t0) {
   return m;
 }
 
-TEST(PipelineSynthetic, NoiseFreeDynamicsModeIsExact) {
+TEST(EstimatorSynthetic, NoiseFreeDynamicsModeIsExact) {
   SynthConfig c;
   c.duration = 10.0;
   const SynthData d = generate(c);
-  const RunResult r = run_pipeline(c, d, matching_config(c, d, PropagationMode::kDynamics));
+  const RunResult r = run_estimator(c, d, matching_config(c, d, PropagationMode::kDynamics));
   ASSERT_EQ(r.status, FilterStatus::kOk) << r.message;
   ASSERT_GT(r.errors.size(), 3000u);
   const Maxima m = maxima_after(r, 5.0);
@@ -48,11 +48,11 @@ TEST(PipelineSynthetic, NoiseFreeDynamicsModeIsExact) {
   EXPECT_EQ(r.counters.rotor_gap_samples, 0);
 }
 
-TEST(PipelineSynthetic, NoiseFreeImuModeIsExact) {
+TEST(EstimatorSynthetic, NoiseFreeImuModeIsExact) {
   SynthConfig c;
   c.duration = 10.0;
   const SynthData d = generate(c);
-  const RunResult r = run_pipeline(c, d, matching_config(c, d, PropagationMode::kImu));
+  const RunResult r = run_estimator(c, d, matching_config(c, d, PropagationMode::kImu));
   ASSERT_EQ(r.status, FilterStatus::kOk) << r.message;
   const Maxima m = maxima_after(r, 5.0);
   std::printf("noise-free imu: max |dp| %.3g m, max |dtheta| %.3g rad\n", m.p, m.theta);
@@ -60,13 +60,13 @@ TEST(PipelineSynthetic, NoiseFreeImuModeIsExact) {
   EXPECT_LT(m.theta, 1e-3);
 }
 
-TEST(PipelineSynthetic, NoisyDynamicsModeTracksForce) {
+TEST(EstimatorSynthetic, NoisyDynamicsModeTracksForce) {
   SynthConfig c;
   c.duration = 20.0;
   c.noisy = true;
   c.seed = 3;
   const SynthData d = generate(c);
-  const RunResult r = run_pipeline(c, d, matching_config(c, d, PropagationMode::kDynamics));
+  const RunResult r = run_estimator(c, d, matching_config(c, d, PropagationMode::kDynamics));
   ASSERT_EQ(r.status, FilterStatus::kOk) << r.message;
   const Maxima m = maxima_after(r, 5.0);
   std::printf("noisy dynamics: force RMSE (W) %.4f m/s^2, max |dp| %.4f m, max |dtheta| %.4f rad\n",
@@ -88,7 +88,7 @@ TEST(PipelineSynthetic, NoisyDynamicsModeTracksForce) {
   EXPECT_LT(m.theta, 0.02);
 }
 
-TEST(PipelineSynthetic, GapsAreHandledWithoutDivergence) {
+TEST(EstimatorSynthetic, GapsAreHandledWithoutDivergence) {
   SynthConfig c;
   c.duration = 20.0;
   c.noisy = true;
@@ -98,7 +98,7 @@ TEST(PipelineSynthetic, GapsAreHandledWithoutDivergence) {
   c.imu_gap = {14.0, 14.2};    // 0.2 s IMU gap
   const SynthData d = generate(c);
   for (PropagationMode mode : {PropagationMode::kDynamics, PropagationMode::kImu}) {
-    const RunResult r = run_pipeline(c, d, matching_config(c, d, mode));
+    const RunResult r = run_estimator(c, d, matching_config(c, d, mode));
     ASSERT_EQ(r.status, FilterStatus::kOk) << to_string(mode) << ": " << r.message;
     const Maxima m = maxima_after(r, 0.0);
     std::printf("gaps %s: max |dp| %.4f m, max |dtheta| %.4f rad, force RMSE (W) %.4f, held %ld, imu gaps %ld\n",
@@ -120,8 +120,8 @@ TEST(PipelineSynthetic, GapsAreHandledWithoutDivergence) {
   }
 }
 
-TEST(PipelineSynthetic, StaticInitializationFromHover) {
-  // Hovering still vehicle, then the pipeline initializes itself (no ground truth).
+TEST(EstimatorSynthetic, StaticInitializationFromHover) {
+  // Hovering still vehicle, then the estimator initializes itself (no ground truth).
   EstimatorParams p;
   p.mode = PropagationMode::kDynamics;
   StaticInitializer init(p);
@@ -148,7 +148,7 @@ TEST(PipelineSynthetic, StaticInitializationFromHover) {
   EXPECT_NE(ff.last_rejection().find("free fall"), std::string::npos);
 }
 
-TEST(PipelineSynthetic, StaticInitializationJudgesMotionBeyondSensorNoise) {
+TEST(EstimatorSynthetic, StaticInitializationJudgesMotionBeyondSensorNoise) {
   // VID-like IMU noise (0.1 m/s^2/sqrt(Hz) at 400 Hz: 2 m/s^2 per sample): a still window
   // must be accepted although its raw spread is ~3.5 m/s^2, and a window with 3 m/s^2 RMS of
   // real oscillating acceleration on top must be rejected (with 200 samples of this noise the
@@ -181,24 +181,24 @@ TEST(PipelineSynthetic, StaticInitializationJudgesMotionBeyondSensorNoise) {
   EXPECT_NE(moving.last_rejection().find("not still"), std::string::npos);
 }
 
-TEST(PipelineSynthetic, DivergenceIsReportedNotSilent) {
+TEST(EstimatorSynthetic, DivergenceIsReportedNotSilent) {
   SynthConfig c;
   c.duration = 3.0;
   const SynthData d = generate(c);
-  PipelineConfig pc = matching_config(c, d, PropagationMode::kImu);
+  EstimatorConfig pc = matching_config(c, d, PropagationMode::kImu);
   pc.params.max_velocity = 0.5;  // the trajectory flies faster than this
-  const RunResult r = run_pipeline(c, d, pc);
+  const RunResult r = run_estimator(c, d, pc);
   EXPECT_EQ(r.status, FilterStatus::kDiverged);
   EXPECT_NE(r.message.find("velocity"), std::string::npos);
 }
 
-TEST(PipelineSynthetic, DeterministicOutput) {
+TEST(EstimatorSynthetic, DeterministicOutput) {
   SynthConfig c;
   c.duration = 3.0;
   c.noisy = true;
   const SynthData d = generate(c);
-  const PipelineConfig pc = matching_config(c, d, PropagationMode::kDynamics);
-  const RunResult a = run_pipeline(c, d, pc), b = run_pipeline(c, d, pc);
+  const EstimatorConfig pc = matching_config(c, d, PropagationMode::kDynamics);
+  const RunResult a = run_estimator(c, d, pc), b = run_estimator(c, d, pc);
   ASSERT_EQ(a.errors.size(), b.errors.size());
   for (std::size_t i = 0; i < a.errors.size(); ++i) {
     ASSERT_EQ(a.errors[i].e_p, b.errors[i].e_p);

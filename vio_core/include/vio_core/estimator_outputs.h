@@ -1,6 +1,6 @@
 #pragma once
-/// @file pipeline_outputs.h
-/// @brief What the pipeline emits: the IMU-rate estimate, the filter status and the stage times
+/// @file estimator_outputs.h
+/// @brief What the estimator emits: the IMU-rate estimate, the filter status and the stage times
 /// of a camera frame.
 
 #include <Eigen/Core>

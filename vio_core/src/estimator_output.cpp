@@ -1,12 +1,12 @@
-/// @file pipeline_output.cpp
-/// @brief The pipeline's outputs: the IMU-rate estimate (state, covariances, the force in both
-/// frames, time offset, status) handed to the callback and the smoother (pipeline_outputs.h).
+/// @file estimator_output.cpp
+/// @brief The estimator's outputs: the IMU-rate estimate (state, covariances, the force in both
+/// frames, time offset, status) handed to the callback and the smoother (estimator_outputs.h).
 #include <algorithm>
 #include <cmath>
 
+#include "vio_core/estimator.h"
 #include "vio_core/fixed_lag.h"  // complete type for lagged_
 #include "vio_core/force_output.h"
-#include "vio_core/pipeline.h"
 
 namespace vid {
 
@@ -19,7 +19,7 @@ std::string to_string(FilterStatus s) {
   return "unknown";
 }
 
-void Pipeline::emit(TimeNs t) {
+void Estimator::emit(TimeNs t) {
   if (!on_estimate_ && !lagged_) return;
   EstimateOutput o;
   o.t_ns = t;

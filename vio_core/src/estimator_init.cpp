@@ -1,15 +1,15 @@
-/// @file pipeline_init.cpp
-/// @brief The pipeline while it waits for initialization from its own sensors (init_mode
+/// @file estimator_init.cpp
+/// @brief The estimator while it waits for initialization from its own sensors (init_mode
 /// static / auto; docs/notes/initialization.md).
-#include "vio_core/pipeline.h"
+#include "vio_core/estimator.h"
 
 namespace vid {
 
-void Pipeline::record_init(TimeNs t, const char* how) {
+void Estimator::record_init(TimeNs t, const char* how) {
   if (counters_.inits.size() < 10000) counters_.inits.push_back(InitRecord{t, how});
 }
 
-void Pipeline::init_from_sensors(const ImuInput& in) {
+void Estimator::init_from_sensors(const ImuInput& in) {
   const EstimatorParams& p = config_.params;
   if (!dynamic_init_ && p.init_mode == InitMode::kAuto && p.use_stereo && config_.cameras.size() >= 2)
     dynamic_init_ = std::make_unique<DynamicInitializer>(p, config_.cameras);
