@@ -2,6 +2,7 @@
 libraries below the estimator (io, sim, frontend) never include vio_core's headers (issue #50's
 acceptance, held here so that a later change cannot undo it silently)."""
 
+import functools
 import pathlib
 import re
 
@@ -34,7 +35,9 @@ def resolve(name, including, roots):
     return None  # a system or third-party header
 
 
+@functools.lru_cache(maxsize=1)
 def graph():
+    """Each source file -> the repository files it includes (read once for all the tests)."""
     files = list(sources())
     roots = include_roots(files)
     edges = {}
