@@ -290,6 +290,21 @@ std::optional<FramePositions> solve_frame_positions(const std::vector<Track>& tr
   return out;
 }
 
+Eigen::Matrix<double, 3, 2> tangent_basis(const Eigen::Vector3d& d) {
+  Eigen::Matrix<double, 3, 2> B;
+  B.col(0) = d.unitOrthogonal();
+  B.col(1) = d.cross(B.col(0));
+  return B;
+}
+
+Eigen::Matrix<double, 9, 8> tangent_map(const Eigen::Vector3d& d, double gravity) {
+  Eigen::Matrix<double, 9, 8> T = Eigen::Matrix<double, 9, 8>::Zero();
+  T.block<3, 3>(0, 0).setIdentity();
+  T.block<3, 2>(3, 3) = gravity * tangent_basis(d);
+  T.block<3, 3>(6, 5).setIdentity();
+  return T;
+}
+
 double alpha_covariance(double a, double b) {
   const double m = std::max(a, b);  // both <= 0
   return -(m * m * m / 3.0 - (a + b) * m * m / 2.0 + a * b * m);
@@ -331,13 +346,8 @@ AlignedState solve_gravity_velocity(const FramePositions& pos, const WindowInteg
   Eigen::Matrix<double, 8, 1> u;
   double chi2 = 0.0;
   for (int it = 0; it < 5; ++it) {
-    Eigen::Matrix<double, 3, 2> B;
-    B.col(0) = d.unitOrthogonal();
-    B.col(1) = d.cross(B.col(0));
-    T.setZero();
-    T.block<3, 3>(0, 0).setIdentity();
-    T.block<3, 2>(3, 3) = gravity * B;
-    T.block<3, 3>(6, 5).setIdentity();
+    const Eigen::Matrix<double, 3, 2> B = tangent_basis(d);
+    T = tangent_map(d, gravity);
     const Eigen::MatrixXd A8 = A * T;
     const Eigen::VectorXd z8 = z - A.middleCols<3>(3) * (gravity * d);
     Eigen::Matrix<double, 8, 8> N8 = A8.transpose() * llt.solve(A8);

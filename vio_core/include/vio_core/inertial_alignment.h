@@ -107,6 +107,13 @@ AlignedState solve_gravity_velocity(const FramePositions& pos, const WindowInteg
                                     double sigma_ba, double gravity,
                                     const Eigen::MatrixXd& alpha_cov_extra = Eigen::MatrixXd());
 
+/// @brief Two unit vectors spanning the plane orthogonal to the unit direction @p d (the
+/// tangent plane of |g| fixed: g = gravity (d + B delta)).
+Eigen::Matrix<double, 3, 2> tangent_basis(const Eigen::Vector3d& d);
+/// @brief d (v, g, b_a) / d (v, delta, b_a) about d (9 x 8): how a tangent-plane covariance maps
+/// to the (v_I, g_I, b_a) one.
+Eigen::Matrix<double, 9, 8> tangent_map(const Eigen::Vector3d& d, double gravity);
+
 /// @brief Covariance between alpha_i and alpha_k per axis for unit white noise density:
 /// int_{max(tau_i, tau_k)}^0 (u - tau_i)(u - tau_k) du.
 double alpha_covariance(double tau_i, double tau_k);
