@@ -2,6 +2,8 @@
 (docs/notes/initialization.md). fast_yaw started mid-yaw (which the still test refuses) and vid17_like started
 mid-flight initialize within 1.5 s of data, and their ATE stays near a run initialized from
 ground truth at the same time; a hovering start still takes the still window."""
+import shutil
+
 import numpy as np
 import pytest
 
@@ -10,15 +12,15 @@ from test_vid_run_helpers import REPO, first_timestamp_ns, simulate_cached, summ
 CONFIG = REPO / "config" / "sim"
 
 
-def auto_vs_groundtruth(seq, tmp_path, start, seconds):
-    r = vid_run(seq, tmp_path / "auto", "--config", str(CONFIG), "--init", "auto", "--start", str(start),
+def auto_vs_groundtruth(seq, tmp_path, start, seconds, config=CONFIG):
+    r = vid_run(seq, tmp_path / "auto", "--config", str(config), "--init", "auto", "--start", str(start),
                 "--end", str(start + seconds))
     assert r.returncode == 0, r.stderr
     s = summary(tmp_path / "auto")
     ev = s["initializations"]["events"]
     assert s["initializations"]["count"] == 1 and ev[0]["how"] == "in_flight", s["initializations"]
     t_init = (ev[0]["t_ns"] - first_timestamp_ns(seq)) * 1e-9
-    g = vid_run(seq, tmp_path / "gt", "--config", str(CONFIG), "--init", "groundtruth", "--start", f"{t_init:.6f}",
+    g = vid_run(seq, tmp_path / "gt", "--config", str(config), "--init", "groundtruth", "--start", f"{t_init:.6f}",
                 "--end", str(start + seconds))
     assert g.returncode == 0, g.stderr
     return t_init - start, s["ate_posyaw_m"], summary(tmp_path / "gt")["ate_posyaw_m"]
@@ -32,6 +34,36 @@ def test_mid_flight_start_initializes_in_flight(scenario, duration, start, tmp_p
     # Ratchet (docs/testing.md): measured ATE ratios 1.08-1.23 on fast_yaw, 1.11-1.33 on vid17_like
     # over 12 s (scripts/init_sweep.py); the issue's target is 1.2 over all presets.
     assert ate <= 1.5 * ate_gt, (ate, ate_gt)
+
+
+def mono_vs_groundtruth(scenario, duration, start, tmp_path):
+    """One camera (use_stereo: false): the scale from the accelerometer over a 2 s window."""
+    config = tmp_path / "config"
+    shutil.copytree(CONFIG, config)
+    est = config / "estimator.yaml"
+    est.write_text(est.read_text().replace("use_stereo: true", "use_stereo: false"))
+    assert "use_stereo: false" in est.read_text()
+    return auto_vs_groundtruth(simulate_cached(scenario, duration, 1, True), tmp_path, start, 6.0, config)
+
+
+def test_mono_mid_flight_start_initializes_in_flight(tmp_path):
+    delay, ate, ate_gt = mono_vs_groundtruth("vid17_like.yaml", 24.0, 10.0, tmp_path)
+    assert delay <= 3.0  # the issue's mono limit
+    # Ratchet as above; the mono sweep's ratios are in docs/notes/initialization.md.
+    assert ate <= 1.5 * ate_gt, (ate, ate_gt)
+
+
+def test_mono_fast_yaw_start_ratchet(tmp_path):
+    # At 3 rad/s of yaw few tracks span the 2 s window: today it waits 3.4 s (ratchet).
+    delay, _, _ = mono_vs_groundtruth("fast_yaw.yaml", 16.0, 8.0, tmp_path)
+    assert delay <= 4.0
+
+
+@pytest.mark.xfail(strict=True, reason="issue #49 target not met: mono fast_yaw initializes after 3.4 s, 5x the "
+                                       "ground-truth start's ATE")
+def test_mono_fast_yaw_start_target(tmp_path):
+    delay, ate, ate_gt = mono_vs_groundtruth("fast_yaw.yaml", 16.0, 8.0, tmp_path)
+    assert delay <= 3.0 and ate <= 1.2 * ate_gt, (delay, ate, ate_gt)
 
 
 def test_hovering_start_takes_the_still_window(tmp_path):

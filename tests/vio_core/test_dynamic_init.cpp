@@ -22,7 +22,9 @@ struct Truth {
   Matrix3d R;
   Vector3d p, v, acc, w_I;
 };
-Truth truth(double t) {
+// cruise: the same rotations, but a straight line at constant velocity (no acceleration, so
+// one camera cannot tell the scale).
+Truth truth(double t, bool cruise = false) {
   Truth s;
   s.p = Vector3d(1.5 * std::sin(0.8 * t), 1.0 * std::cos(0.6 * t), 0.3 * std::sin(1.3 * t));
   s.v = Vector3d(1.2 * std::cos(0.8 * t), -0.6 * std::sin(0.6 * t), 0.39 * std::cos(1.3 * t));
@@ -33,6 +35,11 @@ Truth truth(double t) {
   s.R = rot(t);
   const double h = 1e-5;
   s.w_I = so3::log(rot(t - h).transpose() * rot(t + h)) / (2 * h);
+  if (cruise) {
+    s.v = Vector3d(1.0, 0.3, 0.0);
+    s.p = s.v * t;
+    s.acc.setZero();
+  }
   return s;
 }
 
@@ -68,17 +75,25 @@ struct Noise {
   double gyro_garbage_s = 0.0;  // gyro samples in (t0, t0 + this] are N(0, 300) rad/s (a burst's end)
 };
 
-// Feeds 1.2 s of IMU (400 Hz) and frames (20 Hz) starting at t0; returns the result.
+// One camera of the scene (the mono initializer).
+Scene mono(Scene sc) {
+  sc.cams.resize(1);
+  return sc;
+}
+
+// Feeds `seconds` of IMU (400 Hz) and frames (20 Hz) starting at t0; returns the result (and
+// with @p why the initializer's last rejection).
 std::optional<InitResult> run(const EstimatorParams& p, const Scene& sc, double t0, const Noise& n, unsigned seed,
-                              DynamicInitDiagnostics* diag = nullptr) {
+                              DynamicInitDiagnostics* diag = nullptr, double seconds = 1.2, bool cruise = false,
+                              std::string* why = nullptr) {
   DynamicInitializer init(p, sc.cams);
   std::mt19937 rng(seed);
   std::normal_distribution<double> n01;
   std::optional<InitResult> r;
   const int imu_per_frame = 20;
-  for (int i = 0; i <= static_cast<int>(1.2 * 400); ++i) {
+  for (int i = 0; i <= static_cast<int>(seconds * 400); ++i) {
     const double t = t0 + i / 400.0;
-    const Truth s = truth(t);
+    const Truth s = truth(t, cruise);
     Vector3d a = s.R.transpose() * (s.acc - kG) + n.b_a, w = s.w_I + n.b_g;
     for (int k = 0; k < 3; ++k) {
       a[k] += n.accel * std::sqrt(400.0) * n01(rng);
@@ -111,6 +126,7 @@ std::optional<InitResult> run(const EstimatorParams& p, const Scene& sc, double 
       if (diag) *diag = init.diagnostics();
     }
   }
+  if (why) *why = init.last_rejection();
   return r;
 }
 
@@ -125,8 +141,8 @@ EstimatorParams params(double accel_density, double pixel) {
 
 // Error (true - estimate) of (theta tilt, v_W) in the estimate's yaw-free world: the estimate
 // has yaw 0, so the truth is rotated by the yaw between them first.
-Eigen::Matrix<double, 6, 1> error(const InitResult& r, double t) {
-  const Truth s = truth(t);
+Eigen::Matrix<double, 6, 1> error(const InitResult& r, double t, bool cruise = false) {
+  const Truth s = truth(t, cruise);
   const Matrix3d R_est = r.x.T_WI.q.toRotationMatrix();
   // world alignment: rotation about z taking the true body x heading to the estimate's (the
   // estimate's gauge: yaw 0 is body x projected on the horizontal)
@@ -137,6 +153,21 @@ Eigen::Matrix<double, 6, 1> error(const InitResult& r, double t) {
   e.head<3>() = so3::log(R_est.transpose() * R_true);
   e.tail<3>() = Rz * s.v - r.x.v_WI;
   return e;
+}
+
+// NEES per dof of (tilt, velocity) at init against the covariance handed to the filter.
+Eigen::Vector2d nees_per_dof(const InitResult& r, bool cruise = false) {
+  const Eigen::Matrix<double, 6, 1> e = error(r, r.t_ns * 1e-9, cruise);
+  Eigen::Matrix<double, 6, 6> P;
+  P << r.P.block<3, 3>(0, 0), r.P.block<3, 3>(0, 6), r.P.block<3, 3>(6, 0), r.P.block<3, 3>(6, 6);
+  // tilt: drop the yaw direction (the gauge, sigma 1e-4 against the aligned yaw)
+  const Vector3d z_I = r.x.T_WI.q.conjugate() * Vector3d::UnitZ();
+  Eigen::Matrix<double, 2, 3> Bt;
+  Bt.row(0) = z_I.unitOrthogonal().transpose();
+  Bt.row(1) = z_I.cross(z_I.unitOrthogonal()).transpose();
+  const Eigen::Vector2d et = Bt * e.head<3>();
+  return {et.dot((Bt * P.topLeftCorner<3, 3>() * Bt.transpose()).ldlt().solve(et)) / 2.0,
+          e.tail<3>().dot(P.bottomRightCorner<3, 3>().ldlt().solve(e.tail<3>())) / 3.0};
 }
 
 TEST(InertialAlignment, AlphaCovarianceMatchesAnIntegral) {
@@ -202,17 +233,9 @@ TEST(DynamicInit, NeesOfTiltAndVelocityOverMonteCarloDraws) {
     const double t0 = 0.5 + 0.37 * i;
     const auto r = run(p, sc, t0, n, 100 + i);
     ASSERT_TRUE(r.has_value()) << "draw " << i;
-    const Eigen::Matrix<double, 6, 1> e = error(*r, r->t_ns * 1e-9);
-    Eigen::Matrix<double, 6, 6> P;
-    P << r->P.block<3, 3>(0, 0), r->P.block<3, 3>(0, 6), r->P.block<3, 3>(6, 0), r->P.block<3, 3>(6, 6);
-    // tilt: drop the yaw direction (the gauge, sigma 1e-4 against the aligned yaw)
-    const Vector3d z_I = r->x.T_WI.q.conjugate() * Vector3d::UnitZ();
-    Eigen::Matrix<double, 2, 3> Bt;
-    Bt.row(0) = z_I.unitOrthogonal().transpose();
-    Bt.row(1) = z_I.cross(z_I.unitOrthogonal()).transpose();
-    const Eigen::Vector2d et = Bt * e.head<3>();
-    nees_tilt += et.dot((Bt * P.topLeftCorner<3, 3>() * Bt.transpose()).ldlt().solve(et)) / 2.0;
-    nees_v += e.tail<3>().dot(P.bottomRightCorner<3, 3>().ldlt().solve(e.tail<3>())) / 3.0;
+    const Eigen::Vector2d nees = nees_per_dof(*r);
+    nees_tilt += nees[0];
+    nees_v += nees[1];
     ++runs;
   }
   nees_tilt /= runs;
@@ -245,6 +268,88 @@ TEST(DynamicInit, StereoScaleIsUnbiasedAtLowDisparity) {
   scale /= runs;
   std::printf("velocity scale at init over %d draws: %.4f\n", runs, scale);
   EXPECT_NEAR(scale, 1.0, 0.02);
+}
+
+EstimatorParams mono_params(double accel_density, double pixel) {
+  EstimatorParams p = params(accel_density, pixel);
+  p.init_dynamic_window_mono_s = 2.0;
+  return p;
+}
+
+TEST(DynamicInit, MonoExactDataGivesTheExactState) {
+  // One camera: the scale from the accelerometer (the flight accelerates by ~1 m/s^2).
+  const Scene sc = mono(scene(1));
+  const EstimatorParams p = mono_params(0.0, 0.0);
+  DynamicInitDiagnostics d;
+  Noise exact;
+  exact.b_g = Vector3d(0.02, -0.08, 0.05);
+  const auto r = run(p, sc, 2.0, exact, 1, &d, 2.2);
+  ASSERT_TRUE(r.has_value());
+  const double t = r->t_ns * 1e-9;
+  EXPECT_NEAR(t, 4.0, 1e-6);
+  const auto e = error(*r, t);
+  EXPECT_LT(e.head<3>().norm(), 2e-4) << e.transpose();
+  EXPECT_LT(e.tail<3>().norm(), 2e-3) << e.transpose();
+  EXPECT_LT(r->x.b_a.norm(), 5e-3);
+  EXPECT_LT((r->x.b_g - exact.b_g).norm(), 1e-4) << r->x.b_g.transpose();
+  EXPECT_GE(d.landmarks, 15);
+  // The window's poses: every frame but the last (which is the state's), in the new world.
+  ASSERT_FALSE(r->window_poses.empty());
+  EXPECT_LT(r->window_poses.back().t_ns, r->t_ns);
+}
+
+TEST(DynamicInit, MonoWithoutAccelerationIsRefused) {
+  // Straight at constant velocity: any scale fits the bearings and the accelerometer alike, so
+  // a mono window must be refused (with stereo the same flight initializes).
+  const Scene sc = scene(1);
+  std::string why;
+  DynamicInitDiagnostics d;
+  const auto r_mono = run(mono_params(0.1, 0.5), mono(sc), 2.0, Noise{0.1, 1e-4, 0.5}, 5, &d, 2.2, true, &why);
+  std::printf("cruise scale sigma %.3f, v %.3f\n", d.scale_sigma, r_mono ? r_mono->x.v_WI.norm() : -1.0);
+  EXPECT_FALSE(r_mono.has_value());
+  EXPECT_FALSE(why.empty());
+  std::printf("mono, no acceleration: %s\n", why.c_str());
+  const auto r_stereo = run(params(0.1, 0.5), sc, 2.0, Noise{0.1, 1e-4, 0.5}, 5, nullptr, 1.2, true);
+  ASSERT_TRUE(r_stereo.has_value());
+  EXPECT_LT(error(*r_stereo, r_stereo->t_ns * 1e-9, true).tail<3>().norm(), 0.1);
+}
+
+TEST(DynamicInit, MonoNeesOfTiltAndVelocityOverMonteCarloDraws) {
+  // As the stereo test above, one camera and a 2 s window.
+  const Scene sc = mono(scene(2));
+  const EstimatorParams p = mono_params(0.1, 0.5);
+  std::mt19937 rng(8);
+  std::normal_distribution<double> n01;
+  double nees_tilt = 0.0, nees_v = 0.0;
+  int runs = 0;
+  for (int i = 0; i < 40; ++i) {
+    Noise n{0.1, 1e-4, 0.5, 0.1 * Vector3d(n01(rng), n01(rng), n01(rng)), 0.05 * Vector3d(n01(rng), n01(rng), n01(rng))};
+    std::string why;
+    DynamicInitDiagnostics d;
+    const auto r = run(p, sc, 0.5 + 0.37 * i, n, 200 + i, &d, 2.2, false, &why);
+    if (!r) { std::printf("draw %d refused: %s\n", i, why.c_str()); continue; }
+    const Eigen::Vector2d nees = nees_per_dof(*r);
+    const Truth s = truth(r->t_ns * 1e-9);
+    if (nees.maxCoeff() > 4.0)  // the draws that make the mean: which, how far off, how sure
+      std::printf("draw %d: NEES/dof tilt %.2f velocity %.2f, velocity error %.3f m/s at sigma %.3f, |v| %.2f, scale "
+                  "sigma %.3f, scale error %.3f\n",
+                  i, nees[0], nees[1], error(*r, r->t_ns * 1e-9).tail<3>().norm(),
+                  std::sqrt(r->P.block<3, 3>(6, 6).diagonal().maxCoeff()), s.v.norm(), d.scale_sigma,
+                  r->x.v_WI.norm() / s.v.norm() - 1.0);
+    nees_tilt += nees[0];
+    nees_v += nees[1];
+    ++runs;
+  }
+  nees_tilt /= runs;
+  nees_v /= runs;
+  std::printf("mono NEES per dof over %d draws: tilt %.2f, velocity %.2f\n", runs, nees_tilt, nees_v);
+  // Ratchet at today's 36 of 40 within 0.2 s of retries (the 4 others: the up-to-scale start
+  // not determined); the issue asks 95 % of starts within 3 s.
+  EXPECT_GE(runs, 36);
+  EXPECT_GT(nees_tilt, 0.5);
+  EXPECT_LT(nees_tilt, 1.5);
+  EXPECT_GT(nees_v, 0.5);
+  EXPECT_LT(nees_v, 1.5);
 }
 
 // The refinement's normal equations against numeric derivatives of its cost: the gradient

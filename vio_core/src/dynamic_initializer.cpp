@@ -7,6 +7,7 @@
 #include <map>
 
 #include "geometry/so3.h"
+#include "vio_core/mono_alignment.h"
 #include "vio_core/zero_velocity.h"
 
 namespace vid {
@@ -23,6 +24,12 @@ constexpr int kMaxFrames = 16;     // frames of the window used (evenly spaced):
 constexpr int kMaxLandmarks = 120;  // cost: the dense system has 3 unknowns per landmark
 constexpr int kWantedPerFrame = 40;  // tracks per frame the selection aims at
 constexpr int kMinBearingsPerFrame = 6;
+// Relative sigma of a mono window's scale beyond which it is refused. The scale is seen only
+// through the accelerometer, and its Gauss-Newton sigma is computed at the estimate: far from
+// the truth (a window with too little acceleration, e.g. a straight cruise: any scale fits) the
+// linearization claims more than the data hold (a constant-velocity window gave sigma_v 0.13 for
+// a 0.81 m/s error). Within 25 % the local sigma held in the Monte-Carlo test.
+constexpr double kMaxMonoScaleSigma = 0.25;
 }  // namespace
 
 DynamicInitializer::DynamicInitializer(const EstimatorParams& params, std::vector<CameraCalib> cameras)
@@ -38,17 +45,17 @@ void DynamicInitializer::reset() {
 void DynamicInitializer::add_imu(TimeNs t, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel,
                                  const Eigen::Vector3d& T_m) {
   imu_.push_back({t, gyro, accel, T_m});
-  const TimeNs keep = seconds_to_ns(params_.init_dynamic_window_s + 0.5);
+  const TimeNs keep = seconds_to_ns(window_s() + 0.5);
   while (imu_.size() > 2 && t - imu_.front().t > keep) imu_.pop_front();
 }
 
 std::optional<InitResult> DynamicInitializer::add_frame(const FeatureFrame& frame) {
-  if (cameras_.size() < 2) {
-    reason_ = "in-flight initialization needs a stereo pair";
+  if (cameras_.empty()) {
+    reason_ = "in-flight initialization needs a camera";
     return std::nullopt;
   }
   frames_.push_back(frame);
-  const TimeNs span = seconds_to_ns(params_.init_dynamic_window_s);
+  const TimeNs span = seconds_to_ns(window_s());
   while (frames_.size() > 1 && frame.t_ns - frames_[1].t_ns >= span) frames_.pop_front();
   if (frame.t_ns - frames_.front().t_ns < span) return std::nullopt;
   if (imu_.empty() || imu_.front().t > frames_.front().t_ns || imu_.back().t < frame.t_ns) {
@@ -92,7 +99,7 @@ std::vector<align::Track> DynamicInitializer::window_tracks(std::vector<int>* us
   for (int k = 0; k < static_cast<int>(used->size()); ++k) {
     for (const FeatureObservation& o : frames_[(*used)[k]].observations) {
       if (!o.has_norm) continue;
-      const int cam = o.cam_id == cameras_[0].cam_id ? 0 : o.cam_id == cameras_[1].cam_id ? 1 : -1;
+      const int cam = o.cam_id == cameras_[0].cam_id ? 0 : !mono() && o.cam_id == cameras_[1].cam_id ? 1 : -1;
       if (cam < 0) continue;
       align::Track& tr = by_id[o.feature_id];
       tr.id = o.feature_id;
@@ -101,7 +108,8 @@ std::vector<align::Track> DynamicInitializer::window_tracks(std::vector<int>* us
   }
   std::vector<align::Track> tracks;
   for (auto& [id, tr] : by_id) {
-    // Scale needs a stereo pair somewhere on the track; the frames need it seen twice.
+    // Stereo: the scale needs a stereo pair somewhere on the track, the frames it seen twice.
+    // Mono: seen in three frames (two give a landmark, a third constrains the motion).
     bool stereo = false;
     int frames_seen = 0, last = -1;
     for (std::size_t i = 0; i < tr.obs.size(); ++i) {
@@ -109,7 +117,7 @@ std::vector<align::Track> DynamicInitializer::window_tracks(std::vector<int>* us
       if (i > 0 && tr.obs[i].frame == tr.obs[i - 1].frame && tr.obs[i].cam != tr.obs[i - 1].cam) stereo = true;
       last = tr.obs[i].frame;
     }
-    if (stereo && frames_seen >= 2) tracks.push_back(std::move(tr));
+    if (mono() ? frames_seen >= 3 : stereo && frames_seen >= 2) tracks.push_back(std::move(tr));
   }
   std::stable_sort(tracks.begin(), tracks.end(),
                    [](const align::Track& a, const align::Track& b) { return a.obs.size() > b.obs.size(); });
@@ -138,42 +146,36 @@ std::optional<InitResult> DynamicInitializer::try_window() {
   std::vector<int> per_frame(used.size(), 0);
   for (const align::Track& tr : tracks)
     for (const align::Bearing& b : tr.obs) ++per_frame[b.frame];
-  if (static_cast<int>(tracks.size()) < params_.init_dynamic_min_features ||
-      *std::min_element(per_frame.begin(), per_frame.end()) < kMinBearingsPerFrame) {
-    reason_ = "too few stereo features tracked through the window (" + std::to_string(tracks.size()) + ")";
+  const int fewest = *std::min_element(per_frame.begin(), per_frame.end());
+  if (static_cast<int>(tracks.size()) < params_.init_dynamic_min_features || fewest < kMinBearingsPerFrame) {
+    reason_ = std::string(mono() ? "too few features" : "too few stereo features") +
+              " tracked through the window (" + std::to_string(tracks.size()) + " tracks of the " +
+              std::to_string(params_.init_dynamic_min_features) + " needed, " + std::to_string(fewest) +
+              " in the sparsest frame of the " + std::to_string(kMinBearingsPerFrame) + " needed)";
     return std::nullopt;
   }
   std::vector<TimeNs> times;
   for (int k : used) times.push_back(frames_[k].t_ns);
-  const auto integrate = [&](const Eigen::Vector3d& b_g) {
-    std::vector<align::ImuRow> rows;
-    for (const ImuSample3& s : imu_) rows.push_back({s.t, s.w - b_g, s.a});
-    return align::integrate_window(rows, times);
-  };
-  std::vector<Eigen::Isometry3d> T_IC{cameras_[0].T_IC, cameras_[1].T_IC};
   const CameraCalib& c0 = cameras_[0];
   const double sigma_norm = params_.pixel_noise_px / (0.5 * (c0.intrinsics[0] + c0.intrinsics[1]));
+  if (mono()) return align_mono(tracks, times, sigma_norm);
+  std::vector<Eigen::Isometry3d> T_IC{cameras_[0].T_IC, cameras_[1].T_IC};
   // Gyro bias: real IMUs have up to 0.08 rad/s (euroc_like: 0.077), which turns the window's
   // rotations by 0.08 rad; solved with the positions from the bearings, re-integrated each time.
   Eigen::Vector3d b_g = Eigen::Vector3d::Zero();
   align::WindowIntegrals w;
   std::optional<align::FramePositions> pos;
   for (int it = 0; it < 4; ++it) {
-    w = integrate(b_g);
-    constexpr double h = 1e-4;
-    std::vector<Eigen::Matrix3d> J_bg(w.R_Kk.size(), Eigen::Matrix3d::Zero());
-    for (int i = 0; i < 3; ++i) {  // the gyro enters as w - b_g
-      const align::WindowIntegrals wp = integrate(b_g + h * Eigen::Vector3d::Unit(i));
-      for (std::size_t k = 0; k < J_bg.size(); ++k) J_bg[k].col(i) = so3::log(w.R_Kk[k].transpose() * wp.R_Kk[k]) / h;
-    }
-    pos = align::solve_frame_positions(tracks, w.R_Kk, T_IC, sigma_norm, &reason_, J_bg);
+    w = integrate(times, b_g);
+    pos = align::solve_frame_positions(tracks, w.R_Kk, T_IC, sigma_norm, &reason_,
+                                       rotation_bias_jacobians(times, b_g, w));
     if (!pos) return std::nullopt;
     b_g += pos->d_bg;
     cov_b_g_ = pos->cov_bg;
     if (pos->d_bg.norm() < 1e-4) break;
   }
   // The positions and their covariance of the joint solve (the bias's uncertainty included).
-  w = integrate(b_g);
+  w = integrate(times, b_g);
   b_g_ = b_g;
   diag_.landmarks = pos->landmarks;
   diag_.observations = pos->observations;
@@ -184,13 +186,7 @@ std::optional<InitResult> DynamicInitializer::try_window() {
     return std::nullopt;
   }
   // The gyro bias's error turns the alphas: d alpha / d b_g numerically, times its covariance.
-  const int K = static_cast<int>(w.alpha.size()) - 1;
-  Eigen::MatrixXd Ja(3 * K, 3);
-  for (int i = 0; i < 3; ++i) {
-    constexpr double h = 1e-4;
-    const align::WindowIntegrals wp = integrate(b_g + h * Eigen::Vector3d::Unit(i));
-    for (int k = 0; k < K; ++k) Ja.block<3, 1>(3 * k, i) = (wp.alpha[k] - w.alpha[k]) / h;
-  }
+  const Eigen::MatrixXd Ja = alpha_bias_jacobian(times, b_g, w);
   const align::AlignedState s = align::solve_gravity_velocity(*pos, w, params_.accel_noise_density,
                                                               params_.init_sigma_accel_bias, params_.gravity,
                                                               Ja * cov_b_g_ * Ja.transpose());
@@ -207,15 +203,93 @@ std::optional<InitResult> DynamicInitializer::try_window() {
     return std::nullopt;
   }
   InitResult r = hand_over(s);
-  r.t_ns = frames_.back().t_ns;
-  const Eigen::Matrix3d R_WK = r.x.T_WI.q.toRotationMatrix();
-  for (int k = 0; k < K; ++k) {
+  add_window_poses(&r, times, w, pos->p);
+  return r;
+}
+
+std::optional<InitResult> DynamicInitializer::align_mono(const std::vector<align::Track>& tracks,
+                                                         const std::vector<TimeNs>& times, double sigma_norm) {
+  const align::MonoNoise noise{sigma_norm, params_.accel_noise_density, params_.init_sigma_accel_bias,
+                               params_.gravity};
+  Eigen::Vector3d b_g = Eigen::Vector3d::Zero();
+  align::WindowIntegrals w;
+  std::optional<align::MonoAlignment> m;
+  for (int it = 0; it < 4; ++it) {
+    w = integrate(times, b_g);
+    m = align::solve_mono_window(tracks, w, cameras_[0].T_IC, noise, rotation_bias_jacobians(times, b_g, w),
+                                 alpha_bias_jacobian(times, b_g, w), &reason_);
+    if (!m) return std::nullopt;
+    b_g += m->pos.d_bg;
+    cov_b_g_ = m->pos.cov_bg;
+    if (m->pos.d_bg.norm() < 1e-4) break;
+  }
+  b_g_ = b_g;
+  diag_.landmarks = m->pos.landmarks;
+  diag_.observations = m->pos.observations;
+  diag_.visual_chi2_per_dof = m->pos.chi2_per_dof;
+  diag_.inertial_chi2_per_dof = m->inertial_chi2_per_dof;
+  diag_.scale_sigma = m->scale_sigma;
+  if (m->pos.chi2_per_dof > kMaxVisualChi2PerDof) {
+    reason_ = "the gyro's rotations disagree with the camera over the window (chi2/dof " +
+              std::to_string(m->pos.chi2_per_dof) + ")";
+    return std::nullopt;
+  }
+  if (m->inertial_chi2_per_dof > kMaxInertialChi2PerDof) {
+    reason_ = "the IMU disagrees with the camera over the window (chi2/dof " +
+              std::to_string(m->inertial_chi2_per_dof) + ")";
+    return std::nullopt;
+  }
+  if (!(m->scale_sigma <= kMaxMonoScaleSigma)) {
+    reason_ = "too little acceleration over the mono window to fix the scale (its sigma " +
+              std::to_string(100.0 * m->scale_sigma) + " %)";
+    return std::nullopt;
+  }
+  InitResult r = hand_over(m->state);
+  add_window_poses(&r, times, w, m->pos.p);
+  return r;
+}
+
+align::WindowIntegrals DynamicInitializer::integrate(const std::vector<TimeNs>& times, const Eigen::Vector3d& b_g) const {
+  std::vector<align::ImuRow> rows;
+  for (const ImuSample3& s : imu_) rows.push_back({s.t, s.w - b_g, s.a});
+  return align::integrate_window(rows, times);
+}
+
+std::vector<Eigen::Matrix3d> DynamicInitializer::rotation_bias_jacobians(const std::vector<TimeNs>& times,
+                                                                         const Eigen::Vector3d& b_g,
+                                                                         const align::WindowIntegrals& w) const {
+  constexpr double h = 1e-4;
+  std::vector<Eigen::Matrix3d> J_bg(w.R_Kk.size(), Eigen::Matrix3d::Zero());
+  for (int i = 0; i < 3; ++i) {  // the gyro enters as w - b_g
+    const align::WindowIntegrals wp = integrate(times, b_g + h * Eigen::Vector3d::Unit(i));
+    for (std::size_t k = 0; k < J_bg.size(); ++k) J_bg[k].col(i) = so3::log(w.R_Kk[k].transpose() * wp.R_Kk[k]) / h;
+  }
+  return J_bg;
+}
+
+Eigen::MatrixXd DynamicInitializer::alpha_bias_jacobian(const std::vector<TimeNs>& times, const Eigen::Vector3d& b_g,
+                                                        const align::WindowIntegrals& w) const {
+  const int K = static_cast<int>(w.alpha.size()) - 1;
+  Eigen::MatrixXd Ja(3 * K, 3);
+  for (int i = 0; i < 3; ++i) {
+    constexpr double h = 1e-4;
+    const align::WindowIntegrals wp = integrate(times, b_g + h * Eigen::Vector3d::Unit(i));
+    for (int k = 0; k < K; ++k) Ja.block<3, 1>(3 * k, i) = (wp.alpha[k] - w.alpha[k]) / h;
+  }
+  return Ja;
+}
+
+void DynamicInitializer::add_window_poses(InitResult* r, const std::vector<TimeNs>& times,
+                                          const align::WindowIntegrals& w,
+                                          const std::vector<Eigen::Vector3d>& p) const {
+  r->t_ns = frames_.back().t_ns;
+  const Eigen::Matrix3d R_WK = r->x.T_WI.q.toRotationMatrix();
+  for (std::size_t k = 0; k + 1 < p.size(); ++k) {
     TimedPose pose{times[k], Pose{}};
     pose.T.q = Eigen::Quaterniond(R_WK * w.R_Kk[k]).normalized();
-    pose.T.p = r.x.T_WI.p + R_WK * pos->p[k];
-    r.window_poses.push_back(pose);
+    pose.T.p = r->x.T_WI.p + R_WK * p[k];
+    r->window_poses.push_back(pose);
   }
-  return r;
 }
 
 InitResult DynamicInitializer::hand_over(const align::AlignedState& s) const {

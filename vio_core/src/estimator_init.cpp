@@ -11,8 +11,12 @@ void Estimator::record_init(TimeNs t, const char* how) {
 
 void Estimator::init_from_sensors(const ImuInput& in) {
   const EstimatorParams& p = config_.params;
-  if (!dynamic_init_ && p.init_mode == InitMode::kAuto && p.use_stereo && config_.cameras.size() >= 2)
-    dynamic_init_ = std::make_unique<DynamicInitializer>(p, config_.cameras);
+  if (!dynamic_init_ && p.init_mode == InitMode::kAuto && !config_.cameras.empty()) {
+    // A stereo pair when the estimator uses one, cam0 alone otherwise (mono_alignment.h).
+    std::vector<CameraCalib> cams = config_.cameras;
+    if (!p.use_stereo || cams.size() < 2) cams.resize(1);
+    dynamic_init_ = std::make_unique<DynamicInitializer>(p, std::move(cams));
+  }
   if (dynamic_init_) dynamic_init_->add_imu(in.t, in.gyro, in.accel, in.T_m);
   // Frames up to this sample: the window of the in-flight initializer, not the filter's.
   while (!frame_queue_.empty() && imu_clock(frame_queue_.front().t_ns) <= in.t) {

@@ -64,6 +64,7 @@ const DoubleField kDoubles[] = {
     VID_FIELD(init_accel_std_max),
     VID_FIELD(init_gyro_std_max),
     VID_FIELD(init_dynamic_window_s),
+    VID_FIELD(init_dynamic_window_mono_s),
     VID_FIELD(init_gravity_tolerance),
     VID_FIELD(init_freefall_thrust_ratio),
     VID_FIELD(init_sigma_roll_pitch),

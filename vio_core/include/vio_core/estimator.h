@@ -144,7 +144,7 @@ class Estimator {
   EstimatorConfig config_;
   FilterState state_;
   StaticInitializer initializer_;
-  std::unique_ptr<DynamicInitializer> dynamic_init_;  ///< init_mode auto with a stereo pair
+  std::unique_ptr<DynamicInitializer> dynamic_init_;  ///< init_mode auto (stereo or mono)
   /// @brief While waiting (auto / static): offer the sample and the frames up to it to the
   /// initializers; on success initialize and process the rest as usual (estimator_init.cpp).
   void init_from_sensors(const ImuInput& in);

@@ -33,7 +33,7 @@ struct FlightPhaseRecord {
 /// @brief An initialization (docs/notes/initialization.md): how and when.
 struct InitRecord {
   TimeNs t_ns = 0;
-  std::string how;  ///< "still" (still/hover window), "in_flight" (stereo window), "groundtruth"
+  std::string how;  ///< "still" (still/hover window), "in_flight" (camera window), "groundtruth"
 };
 
 /// @brief Event counters.

@@ -192,7 +192,10 @@ struct EstimatorParams {
   double init_accel_std_max = 0.3;       ///< low-passed accel std beyond the white noise above this -> moving [m/s^2]
   double init_gyro_std_max = 0.05;       ///< low-passed gyro std beyond the white noise [rad/s]
   double init_dynamic_window_s = 1.0;    ///< in-flight initialization: window of stereo frames [s]
-  int init_dynamic_min_features = 15;    ///< ... and the stereo tracks it needs through the window
+  /// ... of mono frames [s]: one camera's scale comes from the accelerometer, which needs the
+  /// motion's acceleration to stand out of its noise over the window.
+  double init_dynamic_window_mono_s = 2.0;
+  int init_dynamic_min_features = 15;    ///< ... and the tracks it needs through the window
   double init_gravity_tolerance = 0.5;   ///< | |a_mean| - g | must stay below [m/s^2]
   double init_freefall_thrust_ratio = 0.3;  ///< T/m below ratio*g with |a| small -> free fall
   double init_sigma_roll_pitch = 0.02;   ///< [rad]
