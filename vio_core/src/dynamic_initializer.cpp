@@ -24,6 +24,11 @@ constexpr int kMaxFrames = 16;     // frames of the window used (evenly spaced):
 constexpr int kMaxLandmarks = 120;  // cost: the dense system has 3 unknowns per landmark
 constexpr int kWantedPerFrame = 40;  // tracks per frame the selection aims at
 constexpr int kMinBearingsPerFrame = 6;
+// Mono: the frames' structure carries the scale and the gyro bias from frame to frame, and thin
+// windows fit the data with a wrong bias: fast_yaw (3 rad/s) at 9-10 bearings per frame took
+// 0.05 rad/s of its yaw as a gyro bias and handed over tilts 5-9 degrees off at a 1.4 degree
+// sigma. An accepted vid17_like window had 50 per frame.
+constexpr int kMinBearingsPerFrameMono = 20;
 // Relative sigma of a mono window's scale beyond which it is refused. The scale is seen only
 // through the accelerometer, and its Gauss-Newton sigma is computed at the estimate: far from
 // the truth (a window with too little acceleration, e.g. a straight cruise: any scale fits) the
@@ -147,11 +152,12 @@ std::optional<InitResult> DynamicInitializer::try_window() {
   for (const align::Track& tr : tracks)
     for (const align::Bearing& b : tr.obs) ++per_frame[b.frame];
   const int fewest = *std::min_element(per_frame.begin(), per_frame.end());
-  if (static_cast<int>(tracks.size()) < params_.init_dynamic_min_features || fewest < kMinBearingsPerFrame) {
+  const int min_per_frame = mono() ? kMinBearingsPerFrameMono : kMinBearingsPerFrame;
+  if (static_cast<int>(tracks.size()) < params_.init_dynamic_min_features || fewest < min_per_frame) {
     reason_ = std::string(mono() ? "too few features" : "too few stereo features") +
               " tracked through the window (" + std::to_string(tracks.size()) + " tracks of the " +
               std::to_string(params_.init_dynamic_min_features) + " needed, " + std::to_string(fewest) +
-              " in the sparsest frame of the " + std::to_string(kMinBearingsPerFrame) + " needed)";
+              " in the sparsest frame of the " + std::to_string(min_per_frame) + " needed)";
     return std::nullopt;
   }
   std::vector<TimeNs> times;
