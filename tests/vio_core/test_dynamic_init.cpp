@@ -170,6 +170,25 @@ Eigen::Vector2d nees_per_dof(const InitResult& r, bool cruise = false) {
           e.tail<3>().dot(P.bottomRightCorner<3, 3>().ldlt().solve(e.tail<3>())) / 3.0};
 }
 
+// Mean NEES per dof of (tilt, velocity) over Monte-Carlo draws, expected in [0.5, 1.5] (the
+// mean of 40-60 chi2 draws per dof is 1 +- ~0.2 at 2 sigma).
+struct MeanNees {
+  double tilt = 0.0, v = 0.0;
+  int runs = 0;
+  void add(const Eigen::Vector2d& nees) {
+    tilt += nees[0];
+    v += nees[1];
+    ++runs;
+  }
+  void expect_consistent(const char* what) const {
+    std::printf("%s NEES per dof over %d draws: tilt %.2f, velocity %.2f\n", what, runs, tilt / runs, v / runs);
+    EXPECT_GT(tilt / runs, 0.5);
+    EXPECT_LT(tilt / runs, 1.5);
+    EXPECT_GT(v / runs, 0.5);
+    EXPECT_LT(v / runs, 1.5);
+  }
+};
+
 TEST(InertialAlignment, AlphaCovarianceMatchesAnIntegral) {
   // int_{max}^0 (u - a)(u - b) du by the midpoint rule
   const double a = -0.8, b = -0.3;
@@ -226,26 +245,15 @@ TEST(DynamicInit, NeesOfTiltAndVelocityOverMonteCarloDraws) {
   const EstimatorParams p = params(0.1, 0.5);
   std::mt19937 rng(7);
   std::normal_distribution<double> n01;
-  double nees_tilt = 0.0, nees_v = 0.0;
-  int runs = 0;
+  MeanNees nees;
   for (int i = 0; i < 60; ++i) {
     Noise n{0.1, 1e-4, 0.5, 0.1 * Vector3d(n01(rng), n01(rng), n01(rng)), 0.05 * Vector3d(n01(rng), n01(rng), n01(rng))};
     const double t0 = 0.5 + 0.37 * i;
     const auto r = run(p, sc, t0, n, 100 + i);
     ASSERT_TRUE(r.has_value()) << "draw " << i;
-    const Eigen::Vector2d nees = nees_per_dof(*r);
-    nees_tilt += nees[0];
-    nees_v += nees[1];
-    ++runs;
+    nees.add(nees_per_dof(*r));
   }
-  nees_tilt /= runs;
-  nees_v /= runs;
-  // Mean of 60 chi2 draws per dof: 1 +- ~0.2 (2 sigma). Measured: tilt 0.94, velocity 0.83.
-  std::printf("NEES per dof over %d draws: tilt %.2f, velocity %.2f\n", runs, nees_tilt, nees_v);
-  EXPECT_GT(nees_tilt, 0.5);
-  EXPECT_LT(nees_tilt, 1.5);
-  EXPECT_GT(nees_v, 0.5);
-  EXPECT_LT(nees_v, 1.5);
+  nees.expect_consistent("stereo");  // measured: tilt 0.94, velocity 0.83
 }
 
 TEST(DynamicInit, StereoScaleIsUnbiasedAtLowDisparity) {
@@ -320,8 +328,7 @@ TEST(DynamicInit, MonoNeesOfTiltAndVelocityOverMonteCarloDraws) {
   const EstimatorParams p = mono_params(0.1, 0.5);
   std::mt19937 rng(8);
   std::normal_distribution<double> n01;
-  double nees_tilt = 0.0, nees_v = 0.0;
-  int runs = 0;
+  MeanNees mean;
   for (int i = 0; i < 40; ++i) {
     Noise n{0.1, 1e-4, 0.5, 0.1 * Vector3d(n01(rng), n01(rng), n01(rng)), 0.05 * Vector3d(n01(rng), n01(rng), n01(rng))};
     std::string why;
@@ -336,20 +343,12 @@ TEST(DynamicInit, MonoNeesOfTiltAndVelocityOverMonteCarloDraws) {
                   i, nees[0], nees[1], error(*r, r->t_ns * 1e-9).tail<3>().norm(),
                   std::sqrt(r->P.block<3, 3>(6, 6).diagonal().maxCoeff()), s.v.norm(), d.scale_sigma,
                   r->x.v_WI.norm() / s.v.norm() - 1.0);
-    nees_tilt += nees[0];
-    nees_v += nees[1];
-    ++runs;
+    mean.add(nees);
   }
-  nees_tilt /= runs;
-  nees_v /= runs;
-  std::printf("mono NEES per dof over %d draws: tilt %.2f, velocity %.2f\n", runs, nees_tilt, nees_v);
+  mean.expect_consistent("mono");  // measured: tilt 1.07, velocity 1.08
   // Ratchet at today's 36 of 40 within 0.2 s of retries (the 4 others: the up-to-scale start
   // not determined); the issue asks 95 % of starts within 3 s.
-  EXPECT_GE(runs, 36);
-  EXPECT_GT(nees_tilt, 0.5);
-  EXPECT_LT(nees_tilt, 1.5);
-  EXPECT_GT(nees_v, 0.5);
-  EXPECT_LT(nees_v, 1.5);
+  EXPECT_GE(mean.runs, 36);
 }
 
 // The refinement's normal equations against numeric derivatives of its cost: the gradient
