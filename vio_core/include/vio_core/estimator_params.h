@@ -182,8 +182,8 @@ struct EstimatorParams {
 
   // --- initialization ---
   /// auto: the still/hover window when there is one, in flight from init_dynamic_window_s of
-  /// stereo frames (use_stereo false: init_dynamic_window_mono_s of cam0 frames) otherwise;
-  /// static: only the window; groundtruth: evaluation only. docs/notes/initialization.md.
+  /// stereo frames otherwise; static: only the window; groundtruth: evaluation only.
+  /// docs/notes/initialization.md.
   InitMode init_mode = InitMode::kAuto;
   double init_window_s = 0.5;            ///< averaging window for static/hover init
   /// The still/hover test judges the spread of init_lowpass_s moving averages of the samples
